@@ -1,0 +1,75 @@
+"""On-disk cache for symbolic derivations, so each is paid once per machine.
+
+Entries are pickles keyed by a SHA-256 of everything the derivation depends on (its source
+text, its arguments, the sympy and Python versions). The folder is ``$SHELLBVP_CACHE_DIR`` or
+``~/.cache/shellbvp``; ``SHELLBVP_CACHE_DIR=off`` disables the disk (the in-process caches
+still apply). Writes are atomic (temporary file + ``os.replace``), so a killed process never
+leaves a half-written entry, and a corrupt entry is recomputed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import pickle
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any, Callable
+
+__all__ = ["key", "memo", "cache_dir", "atomic_write_text"]
+
+
+def cache_dir() -> Path | None:
+    env = os.environ.get("SHELLBVP_CACHE_DIR")
+    if env is not None and env.strip().lower() in {"off", "0", "none", ""}:
+        return None
+    return Path(env) if env else Path.home() / ".cache" / "shellbvp"
+
+
+def key(*parts: Any) -> str:
+    import sympy
+
+    h = hashlib.sha256()
+    for p in (sys.version_info[:2], sympy.__version__, *parts):
+        h.update(repr(p).encode())
+        h.update(b"\0")
+    return h.hexdigest()[:32]
+
+
+def memo(k: str, compute: Callable[[], Any]) -> Any:
+    """Return the cached value for key ``k``, computing and storing it if absent."""
+    folder = cache_dir()
+    path = None if folder is None else folder / f"{k}.pkl"
+    if path is not None and path.exists():
+        try:
+            with open(path, "rb") as f:
+                return pickle.load(f)
+        except Exception:  # corrupt or incompatible entry: recompute below
+            pass
+    value = compute()
+    if path is not None:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
+            with os.fdopen(fd, "wb") as f:
+                pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(tmp, path)
+        except OSError:  # a read-only home is not an error: the value is still returned
+            pass
+    return value
+
+
+def atomic_write_text(path: str | os.PathLike, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (no half-written file is ever visible)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", newline="") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
