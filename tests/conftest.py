@@ -1,0 +1,26 @@
+"""Shared test settings: strict JAX (float64), the tests folder importable, seeded states."""
+
+import os
+import sys
+
+import numpy as np
+import pytest
+
+os.environ.setdefault("JAX_ENABLE_X64", "1")
+sys.path.insert(0, os.path.dirname(__file__))  # for the paper transcriptions in paper_formulas.py
+
+
+def random_states(seed, n=6, *, stretch=(0.8, 1.25), curv=2.0):
+    """Random admissible principal states (lam1, lam2, k1, k2, kb1, kb2), curvatures in 1/R0."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        l1, l2 = rng.uniform(*stretch, 2)
+        k = rng.uniform(-curv, curv, 4)
+        out.append((l1, l2, *k))
+    return out
+
+
+@pytest.fixture
+def states():
+    return random_states(2024)
