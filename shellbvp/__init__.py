@@ -17,3 +17,8 @@ __version__ = "0.1.0"
 from .series import stationary_series  # noqa: E402
 
 __all__ += ["stationary_series"]
+from .scene import Scene, uniform_curvature  # noqa: E402
+from .equilibrium import BACKENDS, ConvergenceError, Equilibrium, reference_state, solve  # noqa: E402
+
+__all__ += ["Scene", "uniform_curvature", "solve", "Equilibrium", "ConvergenceError", "BACKENDS",
+            "reference_state"]

@@ -1,0 +1,101 @@
+"""Scenes as data: geometry, stimulus fields, material and boundary conditions (DESIGN §6).
+
+A :class:`Scene` describes a spherical cap of reference radius R0 = 1 (meridional angle
+s in [0, theta], apex s = 0 on the axis), thickness h = h0/R0, and a stimulus given as fields
+on s that may be piecewise (``breaks`` are the interior interfaces, treated exactly as a
+multi-point problem) and may depend on one named scalar parameter (``parameter``, e.g.
+``"kappa"``). ``fields(piece, s, p)`` returns (g1, g2, kb1, kb2) on piece ``piece``:
+target stretch factors abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22 and target curvatures
+kb_a = bbar_aa / abar_aa, in 1/R0. A scene with ``metric=False`` promises g1 = g2 = 1 and gets
+Euler-Lagrange equations without g terms.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from . import _checks
+from .reduction import MATERIALS, MODELS
+
+__all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
+
+APEX = ("held", "free")   # held: z(0) = 0 (vertical point force allowed); free: F_z = 0
+EDGE = ("free", "clamped")
+
+
+def uniform_curvature(piece, s, kappa):
+    """The cap-eversion stimulus abar = a°, bbar = b° + kappa a°: kb1 = kb2 = kappa - 1."""
+    one = np.ones_like(s)
+    return one, one, (kappa - 1.0) * one, (kappa - 1.0) * one
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A spherical cap problem (all lengths in R0).
+
+    Attributes:
+        theta: opening half-angle Theta in (0, pi).
+        h: thickness h0/R0 in (0, 1).
+        lam: lambda*/mu* (> 0; Ciarlet-Geymonat only).
+        model, material: as in :func:`shellbvp.energy_density`.
+        rhob1: through-thickness stimulus (> 0; rhob2 = rhob3 = 0).
+        apex: ``"held"`` (z(0) = 0) or ``"free"`` (no point force at the apex, F_z = 0).
+        edge: ``"free"`` (M = F_r = F_z = 0) or ``"clamped"`` (r, z, theta at reference values).
+        fields: ``fields(piece, s, p) -> (g1, g2, kb1, kb2)``.
+        breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
+        metric: whether the fields change the metric (g != 1).
+        parameter: name of the scalar stimulus parameter p.
+    """
+
+    theta: float
+    h: float
+    lam: float = 1.0
+    model: str = "relaxed"
+    material: str = "cg"
+    rhob1: float = 1.0
+    apex: str = "held"
+    edge: str = "free"
+    fields: Callable = field(default=uniform_curvature, compare=False)
+    breaks: tuple = ()
+    metric: bool = False
+    parameter: str = "kappa"
+
+    def __post_init__(self):
+        _checks.check_open_interval("theta", self.theta, 0.0, math.pi,
+                                    " (opening half-angle Theta in radians)")
+        _checks.check_open_interval("h", self.h, 0.0, 1.0, " (h = h0/R0, h0 < R0)")
+        _checks.check_choice("model", self.model, MODELS)
+        _checks.check_choice("material", self.material, MATERIALS)
+        if self.material == "cg":
+            _checks.check_positive("lam", self.lam)
+        _checks.check_positive("rhob1", self.rhob1)
+        _checks.check_choice("apex", self.apex, APEX)
+        _checks.check_choice("edge", self.edge, EDGE)
+        b = np.asarray(self.breaks, dtype=float)
+        if b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0 or b[-1] >= self.theta
+                       or not np.all(np.isfinite(b))):
+            raise ValueError(f"breaks must increase strictly inside (0, theta), got {self.breaks!r}")
+        object.__setattr__(self, "breaks", tuple(float(x) for x in b))
+
+    @property
+    def pieces(self) -> int:
+        return len(self.breaks) + 1
+
+    def evaluate_fields(self, piece: int, s, p):
+        """The fields on ``piece`` at s, checked: finite, g > 0, g = 1 unless ``metric``."""
+        out = [np.broadcast_to(np.asarray(v, dtype=float), np.shape(s))
+               for v in self.fields(piece, np.asarray(s, dtype=float), p)]
+        names = ("g1", "g2", "kb1", "kb2")
+        for n, v in zip(names, out):
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"stimulus field {n} must be finite (piece {piece}, "
+                                 f"{self.parameter} = {p!r})")
+        if np.any(out[0] <= 0) or np.any(out[1] <= 0):
+            raise ValueError("stimulus fields g1, g2 must be > 0")
+        if not self.metric and (np.any(out[0] != 1) or np.any(out[1] != 1)):
+            raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")
+        return out
