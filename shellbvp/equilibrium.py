@@ -229,7 +229,7 @@ def _build(prob, ok, msg, tnodes, Y, dense_t, stats, err):
 def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
           tol: float = 1e-8, eps: float | None = None, nodes: int = 41,
           max_nodes: int = 20000, estimate_error: bool = True, throw: bool = True,
-          shooting_segments: int = 16) -> Equilibrium:
+          shooting_segments: int = 16, shooting_steps: int | None = None) -> Equilibrium:
     """Solve the axisymmetric equilibrium of ``scene`` at parameter value ``p``.
 
     Arguments:
@@ -243,6 +243,8 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
         eps: pole offset (default 1e-4 theta).
         estimate_error: re-solve at tol/10 from the solution and report the change.
         throw: raise :class:`ConvergenceError` on failure (else return ``success=False``).
+        shooting_segments: number of shooting segments (at least one per piece).
+        shooting_steps: fixed Tsit5 steps per segment (default: adaptive at rtol = tol).
 
     Raises:
         ValueError: bad arguments. ConvergenceError: no convergence (with diagnostics).
@@ -268,7 +270,8 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
         else:
             from .shooting import shoot
 
-            ok, msg, tn, Y, dense, stats = shoot(prob, prof, tol, shooting_segments)
+            ok, msg, tn, Y, dense, stats = shoot(prob, prof, tol, shooting_segments,
+                                                 steps=shooting_steps)
     except ConvergenceError as exc:
         ok, msg = False, str(exc)
         if throw:
@@ -285,7 +288,8 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
     if estimate_error:
         fine = solve(scene, p, backend=backend, guess=eq, tol=tol / 10, eps=eps,
                      nodes=max(nodes, eq.s.size), max_nodes=max_nodes, estimate_error=False,
-                     throw=throw, shooting_segments=shooting_segments)
+                     throw=throw, shooting_segments=shooting_segments,
+                     shooting_steps=shooting_steps)
         diff = np.abs(fine(eq.s)[:3] - eq(eq.s)[:3])
         err = max(float(np.max(diff)), abs(fine.w - eq.w))
         eq = _replace(eq, error_estimate=err)

@@ -6,7 +6,8 @@ on s that may be piecewise (``breaks`` are the interior interfaces, treated exac
 multi-point problem) and may depend on one named scalar parameter (``parameter``, e.g.
 ``"kappa"``). ``fields(piece, s, p)`` returns (g1, g2, kb1, kb2) on piece ``piece``:
 target stretch factors abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22 and target curvatures
-kb_a = bbar_aa / abar_aa, in 1/R0. A scene with ``metric=False`` promises g1 = g2 = 1 and gets
+kb_a = bbar_aa / abar_aa, in 1/R0. Fields must use array arithmetic only (they are traced by
+JAX in the shooting back-end). A scene with ``metric=False`` promises g1 = g2 = 1 and gets
 Euler-Lagrange equations without g terms.
 """
 
@@ -28,8 +29,12 @@ EDGE = ("free", "clamped")
 
 
 def uniform_curvature(piece, s, kappa):
-    """The cap-eversion stimulus abar = a°, bbar = b° + kappa a°: kb1 = kb2 = kappa - 1."""
-    one = np.ones_like(s)
+    """The cap-eversion stimulus abar = a°, bbar = b° + kappa a°: kb1 = kb2 = kappa - 1.
+
+    Written with arithmetic only, so that it works on numpy and JAX arrays alike (the
+    shooting back-end traces the fields inside its vector field).
+    """
+    one = 0.0 * s + 1.0
     return one, one, (kappa - 1.0) * one, (kappa - 1.0) * one
 
 
