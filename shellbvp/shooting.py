@@ -35,7 +35,7 @@ SAVE_PER_SEGMENT = 17
 
 
 @lru_cache(maxsize=32)
-def _compiled(model, material, rhob1, metric, fields, n_pieces, tol, steps):
+def _compiled(model, material, rhob1, metric, fields, n_pieces, adaptive):
     pf = point_functions(model, material, rhob1, metric)
 
     def F_of(piece, s, p):
@@ -44,23 +44,26 @@ def _compiled(model, material, rhob1, metric, fields, n_pieces, tol, steps):
                     for i in range(n_pieces)]
         return jax.lax.switch(piece, branches, s, p) if n_pieces > 1 else branches[0](s, p)
 
-    def solve_segment(piece, y0, s0, s1, p, lam, h, saveat):
+    def solve_segment(piece, y0, s0, s1, p, lam, h, tol, saveat):
+        # ``tol`` is the PID tolerance (adaptive) or the number of fixed steps (not adaptive);
+        # both are traced, so changing them does not recompile.
         def vf(s, y, args):
             return pf["rhs"](y, s, F_of(piece, s, p), lam, h)[0]
 
-        if steps is None:
+        if adaptive:
             ctrl, dt0 = diffrax.PIDController(rtol=tol, atol=tol), (s1 - s0) / 8
         else:
-            ctrl, dt0 = diffrax.ConstantStepSize(), (s1 - s0) / steps
+            ctrl, dt0 = diffrax.ConstantStepSize(), (s1 - s0) / tol
         return diffrax.diffeqsolve(
             diffrax.ODETerm(vf), diffrax.Tsit5(), s0, s1, dt0, y0, stepsize_controller=ctrl,
             saveat=saveat, max_steps=100_000, adjoint=diffrax.ForwardMode(), throw=False)
 
-    def flow(y0, piece, s0, s1, p, lam, h):
-        return solve_segment(piece, y0, s0, s1, p, lam, h, diffrax.SaveAt(t1=True)).ys[-1]
+    def flow(y0, piece, s0, s1, p, lam, h, tol):
+        return solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(t1=True)).ys[-1]
 
-    def flow_and_sens(piece, y0, s0, s1, p, lam, h):
-        return flow(y0, piece, s0, s1, p, lam, h), jax.jacfwd(flow)(y0, piece, s0, s1, p, lam, h)
+    def flow_and_sens(piece, y0, s0, s1, p, lam, h, tol):
+        return (flow(y0, piece, s0, s1, p, lam, h, tol),
+                jax.jacfwd(flow)(y0, piece, s0, s1, p, lam, h, tol))
 
     def pole(y0, eps, p, lam, h, held):
         q, X, ok = pf["algebraic"](y0, eps, F_of(0, eps, p), lam, h)
@@ -70,13 +73,13 @@ def _compiled(model, material, rhob1, metric, fields, n_pieces, tol, steps):
     def pole_and_jac(y0, eps, p, lam, h, held):
         return pole(y0, eps, p, lam, h, held), jax.jacfwd(pole)(y0, eps, p, lam, h, held)
 
-    def dense(piece, y0, s0, s1, p, lam, h):
+    def dense(piece, y0, s0, s1, p, lam, h, tol):
         ts = s0 + (s1 - s0) * jnp.linspace(0.0, 1.0, SAVE_PER_SEGMENT)
-        ys = solve_segment(piece, y0, s0, s1, p, lam, h, diffrax.SaveAt(ts=ts)).ys
+        ys = solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(ts=ts)).ys
         fs = jax.vmap(lambda s, y: pf["rhs"](y, s, F_of(piece, s, p), lam, h)[0])(ts, ys)
         return ts, ys, fs
 
-    seg_axes = (0, 0, 0, 0, None, None, None)
+    seg_axes = (0, 0, 0, 0, None, None, None, None)
     return (jax.jit(jax.vmap(flow_and_sens, in_axes=seg_axes)), jax.jit(pole_and_jac),
             jax.jit(jax.vmap(dense, in_axes=seg_axes)))
 
@@ -91,15 +94,16 @@ def shoot(prob, guess, tol, n_segments, steps=None, newton_tol=None):
     piece = np.repeat(np.arange(prob.P), per_piece)
     N = s0.size
     flow_and_sens, pole_and_jac, dense = _compiled(
-        sc.model, sc.material, float(sc.rhob1), bool(sc.metric), sc.fields, prob.P, float(tol),
-        steps)
+        sc.model, sc.material, float(sc.rhob1), bool(sc.metric), sc.fields, prob.P,
+        steps is None)
+    ode_tol = tol if steps is None else float(steps)
     U = np.asarray(guess(s0), dtype=float).T.copy()  # (N, 6)
     newton_tol = 10 * tol if newton_tol is None else newton_tol
     T = sc.theta
     history, ok = [], False
     args = (prob.p, sc.lam, sc.h)
     for it in range(NEWTON_MAXITER):
-        ends, sens = (np.asarray(a) for a in flow_and_sens(piece, U, s0, s1, *args))
+        ends, sens = (np.asarray(a) for a in flow_and_sens(piece, U, s0, s1, *args, ode_tol))
         rp, Jp = (np.asarray(a) for a in pole_and_jac(U[0], prob.eps, *args, sc.apex == "held"))
         n = 6 * N
         r = np.empty(n)
@@ -131,7 +135,7 @@ def shoot(prob, guess, tol, n_segments, steps=None, newton_tol=None):
         if it >= 3 and history[-1][0] > history[-3][0]:
             break
     msg = "converged" if ok else f"Newton did not converge: (|residual|, |step|) = {history}"
-    ts, ys, fs = (np.asarray(a) for a in dense(piece, U, s0, s1, *args))
+    ts, ys, fs = (np.asarray(a) for a in dense(piece, U, s0, s1, *args, ode_tol))
     splines = []
     for i in range(prob.P):
         sel = np.flatnonzero(piece == i)

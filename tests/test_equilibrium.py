@@ -1,0 +1,209 @@
+"""Axisymmetric equilibria (issue: Euler-Lagrange BVP, collocation and shooting back-ends).
+
+References are independent of the solvers: the undeformed cap (closed form), the other
+back-end, the first variation of the energy computed by quadrature (not from the ODEs), the
+mirror symmetry of the free cap about the flat state, mesh/step refinement, and the limit of
+smoothed stimuli for exact interfaces.
+"""
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+import shellbvp
+from shellbvp import Scene, solve
+
+THETA = math.pi / 6
+CAP = Scene(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
+
+
+@lru_cache(maxsize=None)
+def branch(backend, kappa_max=3.0, tol=1e-8):
+    """Natural continuation in kappa from the undeformed cap, steps of 1."""
+    out, guess = {}, None
+    for k in np.arange(1.0, kappa_max + 0.5, 1.0):
+        guess = solve(CAP, k, backend=backend, guess=guess, tol=tol, estimate_error=False)
+        out[float(k)] = guess
+    return out
+
+
+@pytest.mark.parametrize("backend,tol", [("collocation", 1e-8), ("shooting", 1e-10)])
+def test_zero_stimulus_recovers_undeformed_cap(backend, tol):
+    eq = solve(CAP, 0.0, backend=backend, tol=tol, estimate_error=False)
+    assert eq.success
+    s = eq.s
+    assert np.max(np.abs(eq.r - np.sin(s))) <= 1e-10
+    assert np.max(np.abs(eq.z - (np.cos(s) - 1))) <= 1e-10
+    assert np.max(np.abs(eq.theta - s)) <= 1e-10
+    assert abs(eq.w) <= 1e-10 and abs(eq.energy) <= 1e-15
+
+
+def test_backends_agree_at_strongly_deformed_state():
+    """Theta = pi/6, h = 0.01, lam = 1, kappa R0 = 3, relaxed CG: (r, z, theta) to 1e-7."""
+    a, b = branch("collocation")[3.0], branch("shooting")[3.0]
+    grid = np.linspace(a.s[0], THETA, 400)
+    assert np.max(np.abs(a(grid)[:3] - b(grid)[:3])) <= 1e-7
+    assert abs(a.w - b.w) <= 1e-7
+    assert a.w > 0.01  # strongly deformed: the edge moved by more than 1% of R0
+
+
+def first_variation(eq, kappa, phi, dphi, psi, n=4000):
+    """d/d delta of E[theta + delta phi, lam1 + delta psi] at delta = 0, by the complex step,
+    with E = 2 pi int W(lam1, r/sin s, -theta'/lam1, -sin(theta)/r) sin s ds computed by
+    Gauss-Legendre quadrature and r = r(eps) + int lam1 cos(theta) ds."""
+    from scipy.integrate import cumulative_simpson
+
+    sc = eq.scene
+    s = np.linspace(eq.s[0], sc.theta, 2 * n + 1)
+    y = eq(s)
+    X = np.empty((4, s.size))
+    sys_ = shellbvp.axisym.AxisymmetricSystem(sc, eq.p)
+    X, _ = sys_.state(0, s, y)
+    lam1, k1 = X[0], X[2]
+    th, r = y[2], y[0]
+    dth = -lam1 * k1
+    d = 1e-20
+    dr = cumulative_simpson(psi(s) * np.cos(th) - lam1 * np.sin(th) * phi(s), x=s, initial=0.0)
+    l1c = lam1 + 1j * d * psi(s)
+    thc = th + 1j * d * phi(s)
+    rc = r + 1j * d * dr
+    kb = kappa - 1.0
+    W = shellbvp.energy_density(l1c, rc / np.sin(s), -(dth + 1j * d * dphi(s)) / l1c,
+                                -np.sin(thc) / rc, kb, kb, h=sc.h, lam=sc.lam, model=sc.model,
+                                material=sc.material)
+    integrand = np.imag(W) / d * np.sin(s)
+    from scipy.integrate import simpson
+
+    return 2 * math.pi * simpson(integrand, x=s)
+
+
+def test_equilibrium_is_stationary_for_the_energy():
+    eq = branch("collocation")[3.0]
+    off = branch("collocation")[2.0]  # a kappa = 2 equilibrium is not one at kappa = 3
+    tests = [
+        (lambda s: np.sin(math.pi * s / THETA), lambda s: math.pi / THETA * np.cos(math.pi * s / THETA),
+         lambda s: 0 * s),
+        (lambda s: s**2, lambda s: 2 * s, lambda s: np.cos(3 * s)),
+        (lambda s: 0 * s, lambda s: 0 * s, lambda s: 1 + s),
+    ]
+    for phi, dphi, psi in tests:
+        at_eq = first_variation(eq, 3.0, phi, dphi, psi)
+        scale = abs(first_variation(off, 3.0, phi, dphi, psi))
+        assert scale > 1e-6
+        assert abs(at_eq) <= 1e-6 * scale, (at_eq, scale)
+
+
+def test_mirror_symmetry_of_free_cap():
+    """Reflection through the flat state with the thickness flipped maps kappa -> 2 - kappa:
+    (r, z, theta) -> (r, -z, -theta), and w -> 2 (1 - cos Theta) - w."""
+    a = solve(CAP, 0.5, estimate_error=False)
+
+    def mirrored(e):
+        return lambda s: e(s) * np.array([1, -1, -1, -1, 1, -1])[:, None]
+
+    b = solve(CAP, 1.5, guess=mirrored(a), estimate_error=False)
+    grid = np.linspace(a.s[0], THETA, 300)
+    ya, yb = a(grid), b(grid)
+    assert np.max(np.abs(yb[0] - ya[0])) <= 1e-9
+    assert np.max(np.abs(yb[1] + ya[1])) <= 1e-9
+    assert np.max(np.abs(yb[2] + ya[2])) <= 1e-9
+    assert abs(b.w - (2 * (1 - math.cos(THETA)) - a.w)) <= 1e-9
+
+
+def test_result_does_not_depend_on_the_pole_offset():
+    """The series hand-over at s = eps has error O(eps^4): w agrees over two decades of eps."""
+    w = [solve(CAP, 2.0, eps=e * THETA, estimate_error=False).w for e in (1e-2, 1e-3, 1e-4)]
+    assert abs(w[0] - w[2]) <= 1e-9 and abs(w[1] - w[2]) <= 1e-10
+
+
+def test_collocation_order_under_mesh_refinement():
+    """solve_bvp is 4th-order collocation: error in w ~ nodes^-4 (fitted slope in [-5, -3])."""
+    ref = solve(CAP, 2.0, tol=1e-9, estimate_error=False)
+    n, err = [], []
+    for tol in (1e-4, 1e-5, 1e-6, 1e-7):
+        e = solve(CAP, 2.0, tol=tol, guess=ref, nodes=11, estimate_error=False)
+        n.append(e.stats["nodes"])
+        err.append(abs(e.w - ref.w))
+    slope = np.polyfit(np.log(n), np.log(err), 1)[0]
+    assert -5.0 <= slope <= -3.0, (n, err, slope)
+
+
+def test_shooting_order_under_step_refinement():
+    """Tsit5 is 5th order: with fixed steps per segment (2 segments) the error in (r, z, theta)
+    at the nodes falls like steps^-5 (measured slope ~ -5.6); reference: 256 steps."""
+    guess = branch("collocation")[1.0]
+    run = lambda k: solve(CAP, 1.0, backend="shooting", guess=guess, shooting_segments=2,  # noqa: E731
+                          shooting_steps=k, estimate_error=False)
+    ref = run(256)
+    steps = (8, 16, 32)
+    err = []
+    for k in steps:
+        e = run(k)
+        err.append(np.max(np.abs([e.r - ref.r, e.z - ref.z, e.theta - ref.theta])))
+    slope = np.polyfit(np.log(steps), np.log(err), 1)[0]
+    assert -6.2 <= slope <= -4.5, (err, slope)
+
+
+def test_exact_interfaces_are_the_limit_of_smoothed_steps():
+    """A patch stimulus s < Theta/4 (clamped edge, apex free): the two-piece solve with exact
+    interface conditions is the limit of one-piece solves with tanh-smoothed steps."""
+    sb = THETA / 4
+    k_patch = 3.0
+
+    def patch(piece, s, p):
+        one = 0.0 * s + 1.0
+        return one, one, (p - 1.0) * one if piece == 0 else -one, (p - 1.0) * one if piece == 0 else -one
+
+    exact = Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=patch, breaks=(sb,))
+    ref = solve(exact, k_patch, estimate_error=False)
+    diffs = []
+    for width in (0.02, 0.01, 0.005):
+        def smooth(piece, s, p, width=width):
+            step = 0.5 * (1 - np.tanh((s - sb) / width))
+            one = 0.0 * s + 1.0
+            kb = -one + p * step
+            return one, one, kb, kb
+
+        sm = solve(Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=smooth),
+                   k_patch, estimate_error=False)
+        grid = np.linspace(ref.s[0], THETA, 500)
+        diffs.append(np.max(np.abs(sm(grid)[:3] - ref(grid)[:3])))
+    assert diffs[0] > diffs[1] > diffs[2]
+    order = np.polyfit(np.log([0.02, 0.01, 0.005]), np.log(diffs), 1)[0]
+    assert order >= 0.9, (diffs, order)
+    # The boundary conditions hold: clamped edge at the reference values, no apex force.
+    assert abs(ref.r[-1] - math.sin(THETA)) < 1e-10 and abs(ref.theta[-1] - THETA) < 1e-10
+    assert np.max(np.abs(ref.F_z)) < 1e-14
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(theta=0.0, h=0.01), "theta"), (dict(theta=math.pi, h=0.01), "theta"),
+    (dict(theta=0.5, h=0.0), "h"), (dict(theta=0.5, h=1.0), "h"),
+    (dict(theta=0.5, h=0.01, lam=-1.0), "lam"), (dict(theta=0.5, h=0.01, apex="pinned"), "apex"),
+    (dict(theta=0.5, h=0.01, edge="simply"), "edge"),
+    (dict(theta=0.5, h=0.01, breaks=(0.7,)), "breaks"),
+])
+def test_bad_scene_is_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        Scene(**kwargs)
+
+
+def test_bad_solve_arguments_are_named():
+    with pytest.raises(ValueError, match="backend"):
+        solve(CAP, 1.0, backend="spectral")
+    with pytest.raises(ValueError, match="kappa"):
+        solve(CAP, float("nan"))
+    bad = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0 + 0 * s, 1.0 + 0 * s, np.nan + s, s))
+    with pytest.raises(ValueError, match="kb1 must be finite"):
+        solve(bad, 1.0)
+
+
+def test_unconverged_solve_is_flagged_not_returned():
+    """Far beyond the fold with no guess the corrector fails: it raises with diagnostics,
+    or with throw=False returns success=False and NaN observables."""
+    with pytest.raises(shellbvp.ConvergenceError, match="kappa"):
+        solve(CAP, 40.0, max_nodes=300, estimate_error=False)
+    eq = solve(CAP, 40.0, max_nodes=300, estimate_error=False, throw=False)
+    assert not eq.success and math.isnan(eq.w)
