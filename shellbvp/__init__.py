@@ -22,3 +22,7 @@ from .equilibrium import BACKENDS, ConvergenceError, Equilibrium, reference_stat
 
 __all__ += ["Scene", "uniform_curvature", "solve", "Equilibrium", "ConvergenceError", "BACKENDS",
             "reference_state"]
+from .continuation import ContinuationOptions, continuation, refine_fold  # noqa: E402
+from .branch import Branch, FoldPoint, follow  # noqa: E402
+
+__all__ += ["ContinuationOptions", "continuation", "refine_fold", "Branch", "FoldPoint", "follow"]

@@ -27,7 +27,7 @@ __all__ = ["AxisymmetricSystem", "ConvergenceError", "point_functions"]
 
 NEWTON_MAXITER = 40
 NEWTON_TOL = 1e-13
-CHUNKS = (8, 512)
+CHUNKS = (8, 128, 512)
 
 
 class ConvergenceError(RuntimeError):
@@ -156,15 +156,15 @@ class AxisymmetricSystem:
         self.fns = _batched(scene.model, scene.material, float(scene.rhob1), bool(scene.metric))
         self.calls = 0
 
-    def fields(self, piece, s):
-        return self.scene.evaluate_fields(piece, s, self.p)
+    def fields(self, piece, s, p=None):
+        return self.scene.evaluate_fields(piece, s, self.p if p is None else p)
 
-    def _call(self, name, piece, s, y):
+    def _call(self, name, piece, s, y, p=None):
         s = np.atleast_1d(np.asarray(s, dtype=float))
         y = np.asarray(y, dtype=float).reshape(6, -1)
-        F = np.stack(self.fields(piece, s))
+        F = np.stack(self.fields(piece, s, p))
         n = s.size
-        size = CHUNKS[0] if n <= CHUNKS[0] else CHUNKS[1]
+        size = next((c for c in CHUNKS if n <= c), CHUNKS[-1])
         outs = []
         for start in range(0, n, size):
             stop = min(start + size, n)
@@ -182,20 +182,21 @@ class AxisymmetricSystem:
             bad = s[np.argmin(ok)]
             raise ConvergenceError(
                 f"inner Newton for (lam1, k1) did not converge at s = {bad:.6g} "
-                f"({self.scene.parameter} = {self.p:g}): the state is far from admissible "
+                f"({self.scene.parameter} = {self.p if p is None else p:g}): the state is far from admissible "
                 f"(lam1 <= 0, or the constitutive inversion folds); take a smaller step")
         return res[:-1]
 
-    def rhs(self, piece, s, y):
-        (f,) = self._call("rhs", piece, s, y)
+    def rhs(self, piece, s, y, p=None):
+        """f (6, n); ``p`` overrides the parameter value given at construction."""
+        (f,) = self._call("rhs", piece, s, y, p)
         return f.T
 
-    def rhs_and_jac(self, piece, s, y):
+    def rhs_and_jac(self, piece, s, y, p=None):
         """f (6, n) and df/dy (6, 6, n)."""
-        f, J = self._call("rhs_jac", piece, s, y)
+        f, J = self._call("rhs_jac", piece, s, y, p)
         return f.T, np.moveaxis(J, 0, -1)
 
-    def state(self, piece, s, y):
+    def state(self, piece, s, y, p=None):
         """Principal state X = (lam1, lam2, k1, k2) (4, n) and the fields at s."""
-        q, X = self._call("algebraic", piece, s, y)
-        return X.T, self.fields(piece, np.atleast_1d(s))
+        q, X = self._call("algebraic", piece, s, y, p)
+        return X.T, self.fields(piece, np.atleast_1d(s), p)

@@ -102,23 +102,23 @@ class _Problem:
     def s_of(self, i, t):
         return self.a[i] + (self.b[i] - self.a[i]) * t
 
-    def fun(self, t, Y):
+    def fun(self, t, Y, p=None):
         out = np.empty_like(Y)
         for i in range(self.P):
             out[6 * i:6 * i + 6] = (self.b[i] - self.a[i]) * self.system.rhs(
-                i, self.s_of(i, t), Y[6 * i:6 * i + 6])
+                i, self.s_of(i, t), Y[6 * i:6 * i + 6], p)
         return out
 
-    def fun_jac(self, t, Y):
+    def fun_jac(self, t, Y, p=None):
         n = Y.shape[1]
         J = np.zeros((6 * self.P, 6 * self.P, n))
         for i in range(self.P):
-            _, Ji = self.system.rhs_and_jac(i, self.s_of(i, t), Y[6 * i:6 * i + 6])
+            _, Ji = self.system.rhs_and_jac(i, self.s_of(i, t), Y[6 * i:6 * i + 6], p)
             J[6 * i:6 * i + 6, 6 * i:6 * i + 6] = (self.b[i] - self.a[i]) * Ji
         return J
 
-    def pole_residual(self, y0):
-        X, _ = self.system.state(0, np.array([self.eps]), y0[:, None])
+    def pole_residual(self, y0, p=None):
+        X, _ = self.system.state(0, np.array([self.eps]), y0[:, None], p)
         lam1, lam2, k1, k2 = X[:, 0]
         third = (y0[1] + y0[0] * y0[2] / 2) if self.scene.apex == "held" else y0[5]
         return np.array([lam1 - lam2, k1 - k2, third])
@@ -129,12 +129,21 @@ class _Problem:
             return np.array([y1[3], y1[4], y1[5]])
         return np.array([y1[0] - math.sin(T), y1[1] - (math.cos(T) - 1.0), y1[2] - T])
 
-    def bc(self, Ya, Yb):
-        res = [self.pole_residual(Ya[:6])]
+    def bc(self, Ya, Yb, p=None):
+        res = [self.pole_residual(Ya[:6], p)]
         for i in range(self.P - 1):
             res.append(Yb[6 * i:6 * i + 6] - Ya[6 * i + 6:6 * i + 12])
         res.append(self.edge_residual(Yb[6 * (self.P - 1):]))
         return np.concatenate(res)
+
+    def monitor(self, Ya, Yb):
+        """The branch's boundary functional, in units of the cap's rise H = 1 - cos theta:
+        the edge displacement w relative to the apex (free edge), or the apex displacement
+        relative to the edge (clamped edge)."""
+        T = self.scene.theta
+        z_apex = Ya[1] + Ya[0] * Ya[2] / 2
+        rel = Yb[6 * (self.P - 1) + 1] - z_apex - (math.cos(T) - 1.0)
+        return rel / (1.0 - math.cos(T))
 
     def stack(self, t, profile):
         """Stacked Y(t) from a function profile(s) -> (6, n)."""
@@ -180,7 +189,7 @@ def _dense_in_s(prob: _Problem, dense_t):
     return ev
 
 
-def _energy(prob: _Problem, dense_t):
+def _energy(prob: _Problem, dense_t, p=None):
     """2 pi int W g1 g2 sin s ds by 4-point Gauss on 64 panels per piece, plus the pole cap."""
     from .energy import energy_terms
 
@@ -194,7 +203,7 @@ def _energy(prob: _Problem, dense_t):
         wt = ((edges[1:, None] - edges[:-1, None]) / 2 * wg[None, :]).ravel()
         s = prob.s_of(i, t)
         y = dense_t(t)[6 * i:6 * i + 6]
-        X, (g1, g2, kb1, kb2) = prob.system.state(i, s, y)
+        X, (g1, g2, kb1, kb2) = prob.system.state(i, s, y, p)
         ws, wb, _, _ = energy_terms(*X, kb1, kb2, lam=sc.lam, model=sc.model,
                                     material=sc.material, rhob1=sc.rhob1)
         dA = g1 * g2 * np.sin(s) * (prob.b[i] - prob.a[i]) * wt

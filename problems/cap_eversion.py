@@ -1,0 +1,101 @@
+"""Eversion of a spherical cap (paper Section 5.2).
+
+Geometry: a spherical cap of reference radius R0 (lengths in R0), opening half-angle Theta,
+thickness h = h0/R0; the shallowness parameter is T = Theta sqrt(R0/h0).
+Stimulus (eq. (stimulus)): abar = a°, bbar = b° + kappa a°, so kb1 = kb2 = kappa - 1/R0;
+no through-thickness stimulus (we read the paper's rhob1 = rho1 as rhob1 = 1).
+Material and model: Ciarlet-Geymonat (lam = lambda*/mu*) or incompressible neo-Hookean,
+``plane_strain`` (rho1 = 1, rho2 = 0) or ``relaxed`` (rho1, rho2 minimising the energy).
+Boundary conditions: apex held (z(0) = 0), free edge.
+Observable: w, the vertical displacement of the free edge relative to the apex, in R0
+(w = 2 (1 - cos Theta) for the fully everted cap).
+Snapping: the snap curvature kappa_s is the first fold of the branch from kappa = 0, i.e. the
+maximum of kappa along the branch; shallow caps evert without a fold.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import shellbvp
+from shellbvp import ContinuationOptions, Scene
+
+__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult"]
+
+
+def scene(theta, h, lam=1.0, *, model="relaxed", material="cg") -> Scene:
+    """The cap-eversion scene: uniform curvature stimulus, apex held, free edge."""
+    return Scene(theta=theta, h=h, lam=lam, model=model, material=material, apex="held",
+                 edge="free", fields=shellbvp.uniform_curvature, parameter="kappa")
+
+
+def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg",
+                backend="collocation", guess=None, tol=1e-8):
+    """The equilibrium at curvature stimulus kappa (1/R0), by natural continuation from the
+    undeformed cap when no guess is given (steps of at most 0.5 in kappa R0)."""
+    sc = scene(theta, h, lam, model=model, material=material)
+    if guess is None:
+        for k in np.linspace(0.0, kappa, max(2, int(math.ceil(abs(kappa) / 0.5)) + 1))[1:-1]:
+            guess = shellbvp.solve(sc, k, backend=backend, guess=guess, tol=tol,
+                                   estimate_error=False)
+    return shellbvp.solve(sc, kappa, backend=backend, guess=guess, tol=tol)
+
+
+def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", kappa_max=None,
+           n_folds=1, w_max=None, options: ContinuationOptions | None = None, progress=None):
+    """Continuation diagram kappa(w) from the undeformed cap (a :class:`shellbvp.Branch`).
+
+    Stops after ``n_folds`` folds (default: the snap), at ``kappa_max`` (1/R0), or when w
+    exceeds ``w_max`` (default: 1.2 times the fully everted displacement 2 (1 - cos Theta)).
+    """
+    sc = scene(theta, h, lam, model=model, material=material)
+    H = 1.0 - math.cos(sc.theta)
+    w_max = 2.4 * H if w_max is None else float(w_max)
+    kmax = math.inf if kappa_max is None else float(kappa_max)
+    return shellbvp.follow(sc, p0=0.0, p_stop=(-math.inf, kmax), n_folds=n_folds,
+                           w_stop=(-math.inf, w_max),
+                           options=options or ContinuationOptions(ds=0.1, ds_max=0.5),
+                           progress=progress)
+
+
+@dataclass(frozen=True)
+class SnapResult:
+    """Snap-through of an everting cap.
+
+    Attributes:
+        snaps: whether the branch from kappa = 0 has a fold before full eversion.
+        kappa_s: snap curvature kappa_s R0 (nan when it does not snap).
+        w_s: edge displacement at the fold, in R0 (nan when it does not snap).
+        error_estimate: estimate of the error in kappa_s (mesh refinement of the fold system).
+        T: shallowness Theta sqrt(R0/h0).
+    """
+
+    snaps: bool
+    kappa_s: float
+    w_s: float
+    error_estimate: float
+    theta: float
+    h: float
+    lam: float
+    model: str
+    material: str
+    T: float
+    stats: dict = field(repr=False, default_factory=dict)
+
+
+def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-8,
+                   options: ContinuationOptions | None = None) -> SnapResult:
+    """kappa_s: the first fold of the branch from kappa = 0 (collocation corrector, the fold
+    refined with the extended system at ``tol``)."""
+    o = options or ContinuationOptions(ds=0.1, ds_max=0.5, fold_tol=tol)
+    b = branch(theta, h, lam, model=model, material=material, n_folds=1, options=o)
+    T = theta / math.sqrt(h)
+    if not b.folds:
+        return SnapResult(False, math.nan, math.nan, math.nan, theta, h, lam, model, material,
+                          T, dict(b.stats))
+    f = b.folds[0]
+    return SnapResult(True, f.p, f.w, f.error_estimate, theta, h, lam, model, material, T,
+                      dict(b.stats) | {"fold": f.stats})
