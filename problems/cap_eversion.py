@@ -23,7 +23,7 @@ import numpy as np
 import shellbvp
 from shellbvp import ContinuationOptions, Scene
 
-__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult"]
+__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset"]
 
 
 def scene(theta, h, lam=1.0, *, model="relaxed", material="cg") -> Scene:
@@ -99,3 +99,46 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-
     f = b.folds[0]
     return SnapResult(True, f.p, f.w, f.error_estimate, theta, h, lam, model, material, T,
                       dict(b.stats) | {"fold": f.stats})
+
+
+def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-8,
+               csv_path=None, progress=True):
+    """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
+
+    Returns a dict of arrays ``T``, ``theta``, ``kappa_s``, ``w_s``, ``error_estimate``,
+    ``snaps`` (kappa_s = nan where the cap does not snap). Writes CSV atomically to
+    ``csv_path`` when given; shows a progress bar unless ``progress=False``.
+    """
+    from tqdm import tqdm
+
+    T_values = np.asarray(T_values, dtype=float)
+    if T_values.ndim != 1 or T_values.size == 0 or not np.all(np.isfinite(T_values)) or \
+            np.any(T_values <= 0):
+        raise ValueError(f"T_values must be a non-empty 1-D array of positive numbers, "
+                         f"got {T_values!r}")
+    rows = []
+    for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
+        r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, tol=tol)
+        rows.append((T, r.theta, r.kappa_s, r.w_s, r.error_estimate, r.snaps))
+    out = {k: np.array([row[i] for row in rows]) for i, k in
+           enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps"))}
+    if csv_path is not None:
+        lines = ["T,theta_rad,kappa_s_R0,w_s_over_R0,kappa_s_error,snaps"]
+        lines += [f"{T!r},{th!r},{k!r},{w!r},{e!r},{int(s)}" for T, th, k, w, e, s in rows]
+        shellbvp.atomic_write_text(csv_path, "\n".join(lines) + "\n")
+    return out
+
+
+def onset(h, lam=1.0, *, model="relaxed", material="cg", T_lo=1.0, T_hi=6.0, T_tol=0.01):
+    """The smallest shallowness T = Theta sqrt(R0/h0) at which the branch has a fold, by
+    bisection on 'snaps' between T_lo (must not snap) and T_hi (must snap)."""
+    def snaps(T):
+        return snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material,
+                              tol=1e-6).snaps
+
+    if snaps(T_lo) or not snaps(T_hi):
+        raise ValueError(f"onset: need no snap at T_lo = {T_lo} and a snap at T_hi = {T_hi}")
+    while T_hi - T_lo > T_tol:
+        mid = 0.5 * (T_lo + T_hi)
+        T_lo, T_hi = (T_lo, mid) if snaps(mid) else (mid, T_hi)
+    return 0.5 * (T_lo + T_hi), 0.5 * (T_hi - T_lo)

@@ -1,0 +1,98 @@
+"""The ``shellbvp`` command line: snap curvature, continuation diagrams and sweeps of caps.
+
+    shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
+    shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
+    shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv
+
+Bad arguments exit with code 2 and one line on stderr; a solver failure exits with 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+import numpy as np
+
+
+def _range(text):
+    try:
+        a, b, step = (float(v) for v in text.split(":"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected START:STOP:STEP, got {text!r}") from None
+    if not (step > 0 and b >= a > 0):
+        raise argparse.ArgumentTypeError(f"need 0 < START <= STOP and STEP > 0, got {text!r}")
+    return np.arange(a, b + 0.5 * step, step)
+
+
+def _common(p, theta=True):
+    if theta:
+        p.add_argument("--theta", type=float, default=math.pi / 6,
+                       help="opening half-angle Theta in radians, in (0, pi) (default pi/6)")
+    p.add_argument("--h", type=float, default=0.01, help="thickness h0/R0 in (0, 1) (default 0.01)")
+    p.add_argument("--lam", type=float, default=1.0, help="lambda*/mu* > 0 (default 1)")
+    p.add_argument("--model", default="relaxed", choices=["plane_strain", "relaxed"])
+    p.add_argument("--material", default="cg", choices=["cg", "nh"])
+    p.add_argument("--tol", type=float, default=1e-8, help="fold tolerance (default 1e-8)")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit code 2), as the project's CLIs promise."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def parser():
+    p = _Parser(prog="shellbvp", description="Snap-through of everting "
+                                "spherical caps (Taffetani & Pezzulla, Section 5.2).")
+    sub = p.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("snap", help="snap curvature kappa_s of one cap")
+    _common(s)
+    b = sub.add_parser("branch", help="continuation diagram kappa(w) to the first fold")
+    _common(b)
+    b.add_argument("--csv", required=True, help="output CSV file")
+    b.add_argument("--kappa-max", type=float, default=None, help="stop at this kappa R0")
+    w = sub.add_parser("sweep", help="kappa_s against T = Theta sqrt(R0/h0)")
+    _common(w, theta=False)
+    w.add_argument("--T", type=_range, required=True, help="START:STOP:STEP of T")
+    w.add_argument("--csv", required=True, help="output CSV file")
+    return p
+
+
+def main(argv=None) -> int:
+    p = parser()
+    a = p.parse_args(argv)
+    from problems import cap_eversion as ce
+    import shellbvp
+
+    opts = dict(model=a.model, material=a.material)
+    try:
+        if a.command == "snap":
+            r = ce.snap_curvature(a.theta, a.h, a.lam, tol=a.tol, **opts)
+            print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, lam = {a.lam:g}, model = {a.model}, "
+                  f"material = {a.material}, T = Theta sqrt(R0/h0) = {r.T:.4g}")
+            if r.snaps:
+                print(f"kappa_s R0 = {r.kappa_s:.10f} +- {r.error_estimate:.1e}")
+                print(f"w_s / R0   = {r.w_s:.10f}")
+            else:
+                print("no snap: the cap everts without a fold (kappa_s undefined)")
+        elif a.command == "branch":
+            br = ce.branch(a.theta, a.h, a.lam, kappa_max=a.kappa_max,
+                           options=shellbvp.ContinuationOptions(ds=0.1, ds_max=0.5,
+                                                                fold_tol=a.tol), **opts)
+            br.to_csv(a.csv)
+            print(f"{br.p.size} points, {len(br.folds)} fold(s) -> {a.csv}")
+        else:
+            out = ce.snap_curve(a.T, a.h, a.lam, tol=a.tol, csv_path=a.csv, **opts)
+            print(f"{out['T'].size} caps, {int(out['snaps'].sum())} snap -> {a.csv}")
+    except ValueError as exc:
+        p.exit(2, f"shellbvp: error: {exc}\n")
+    except shellbvp.ConvergenceError as exc:
+        p.exit(1, f"shellbvp: solver failure: {exc}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

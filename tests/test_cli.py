@@ -1,0 +1,48 @@
+"""The shellbvp command line: bad input exits 2 with one line; the commands run."""
+
+import math
+
+import pytest
+
+from problems import cli
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["snap", "--h", "2"], "h must lie in (0, 1)"),
+    (["snap", "--lam", "-1"], "lam must be > 0"),
+    (["snap", "--theta", "4"], "theta must lie in (0, 3.14159)"),
+    (["snap", "--model", "foo"], "invalid choice"),
+    (["sweep", "--T", "3:1:1", "--csv", "x.csv"], "0 < START <= STOP"),
+    (["sweep", "--T", "a:b", "--csv", "x.csv"], "START:STOP:STEP"),
+    (["branch", "--theta", "0.5"], "--csv"),
+    ([], "command"),
+])
+def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
+    with pytest.raises(SystemExit) as e:
+        cli.main(argv)
+    assert e.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and needle in err[0], err
+
+
+def test_help_everywhere(capsys):
+    for argv in (["--help"], ["snap", "--help"], ["branch", "--help"], ["sweep", "--help"]):
+        with pytest.raises(SystemExit) as e:
+            cli.main(argv)
+        assert e.value.code == 0
+    assert "--theta" in capsys.readouterr().out
+
+
+def test_branch_command_writes_csv(tmp_path, capsys):
+    out = tmp_path / "b.csv"
+    assert cli.main(["branch", "--theta", str(math.pi / 6), "--kappa-max", "0.4",
+                     "--csv", str(out)]) == 0
+    assert out.read_text().startswith("kappa_R0,w_over_R0,energy")
+    assert "points" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_snap_command_prints_kappa_s(capsys):
+    assert cli.main(["snap", "--theta", "0.25", "--h", "0.01"]) == 0
+    out = capsys.readouterr().out
+    assert "kappa_s R0 =" in out and "w_s / R0" in out
