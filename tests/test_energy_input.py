@@ -34,7 +34,7 @@ def test_non_positive_stretch(i, name, value):
         shellbvp.energy_density(*state, h=0.01)
 
 
-@pytest.mark.parametrize("i,name", enumerate(["lam1", "lam2", "k1", "k2", "kb1", "kb2"]))
+@pytest.mark.parametrize("i,name", list(enumerate(["lam1", "lam2", "k1", "k2", "kb1", "kb2"])))
 def test_non_finite_state(i, name):
     state = list(GOOD)
     state[i] = np.nan
