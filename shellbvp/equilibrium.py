@@ -41,7 +41,7 @@ def reference_state(s):
 
 @dataclass(frozen=True)
 class Equilibrium:
-    """An axisymmetric equilibrium (lengths in R0, energies per 2 pi mu* h0 R0^2... see below).
+    """An axisymmetric equilibrium (lengths in R0, energies per mu* h0 R0^2).
 
     Attributes:
         s: mesh nodes (meridional angle of the reference sphere, from the pole offset eps).

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-import shellbvp
 from shellbvp import ContinuationOptions, continuation
 
 # Bratu u'' + lam e^u = 0, u(0) = u(1) = 0: the fold is at lam* = 3.513830719125161
