@@ -26,17 +26,20 @@ from shellbvp import ContinuationOptions, Scene
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset"]
 
 
-def scene(theta, h, lam=1.0, *, model="relaxed", material="cg") -> Scene:
-    """The cap-eversion scene: uniform curvature stimulus, apex held, free edge."""
+def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene:
+    """The cap-eversion scene: uniform curvature stimulus, apex held, free edge.
+
+    ``material="koiter"`` is the morphoelastic Koiter reference shell (Poisson ratio nu),
+    whose kappa_s is the paper's "theoretical prediction" (Pezzulla et al. 2018)."""
     return Scene(theta=theta, h=h, lam=lam, model=model, material=material, apex="held",
-                 edge="free", fields=shellbvp.uniform_curvature, parameter="kappa")
+                 edge="free", fields=shellbvp.uniform_curvature, parameter="kappa", nu=nu)
 
 
-def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg",
+def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                 backend="collocation", guess=None, tol=1e-8):
     """The equilibrium at curvature stimulus kappa (1/R0), by natural continuation from the
     undeformed cap when no guess is given (steps of at most 0.5 in kappa R0)."""
-    sc = scene(theta, h, lam, model=model, material=material)
+    sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     if guess is None:
         for k in np.linspace(0.0, kappa, max(2, int(math.ceil(abs(kappa) / 0.5)) + 1))[1:-1]:
             guess = shellbvp.solve(sc, k, backend=backend, guess=guess, tol=tol,
@@ -44,14 +47,14 @@ def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg",
     return shellbvp.solve(sc, kappa, backend=backend, guess=guess, tol=tol)
 
 
-def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", kappa_max=None,
+def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_max=None,
            n_folds=1, w_max=None, options: ContinuationOptions | None = None, progress=None):
     """Continuation diagram kappa(w) from the undeformed cap (a :class:`shellbvp.Branch`).
 
     Stops after ``n_folds`` folds (default: the snap), at ``kappa_max`` (1/R0), or when w
     exceeds ``w_max`` (default: 1.2 times the fully everted displacement 2 (1 - cos Theta)).
     """
-    sc = scene(theta, h, lam, model=model, material=material)
+    sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     H = 1.0 - math.cos(sc.theta)
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
@@ -86,12 +89,12 @@ class SnapResult:
     stats: dict = field(repr=False, default_factory=dict)
 
 
-def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-8,
+def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-8,
                    options: ContinuationOptions | None = None) -> SnapResult:
     """kappa_s: the first fold of the branch from kappa = 0 (collocation corrector, the fold
     refined with the extended system at ``tol``)."""
     o = options or ContinuationOptions(ds=0.1, ds_max=0.5, fold_tol=tol)
-    b = branch(theta, h, lam, model=model, material=material, n_folds=1, options=o)
+    b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1, options=o)
     T = theta / math.sqrt(h)
     if not b.folds:
         return SnapResult(False, math.nan, math.nan, math.nan, theta, h, lam, model, material,

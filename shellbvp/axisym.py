@@ -179,7 +179,8 @@ class AxisymmetricSystem:
             sp_ = np.pad(s[sl], (0, pad), mode="edge")
             yp = np.pad(y[:, sl], ((0, 0), (0, pad)), mode="edge")
             Fp = np.pad(F[:, sl], ((0, 0), (0, pad)), mode="edge")
-            res = self.fns[name](yp, sp_, Fp, self.scene.lam, self.scene.h)
+            res = self.fns[name](yp, sp_, Fp, self.scene.material_parameter,
+                                  self.scene.h)
             outs.append([np.asarray(r)[: stop - start] for r in res])
         self.calls += 1
         res = [np.concatenate(parts, axis=0) for parts in zip(*outs)]

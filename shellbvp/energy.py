@@ -59,8 +59,20 @@ def _compiled(model: str, material: str):
     }
 
 
-def _validate(state, h, lam, model, material, rhob, exact):
+def material_parameter(material, lam, nu):
+    """The compiled functions take one material parameter: lam for cg, nu for koiter."""
+    return nu if material == "koiter" else lam
+
+
+def _validate(state, h, lam, model, material, rhob, exact, nu=0.5):
     _checks.check_choice("material", material, MATERIALS)
+    if material == "koiter":
+        _checks.check_finite("nu", nu)
+        if not -1.0 < float(np.real(nu)) < 1.0:
+            raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio; 0.5 incompressible), got {nu!r}")
+        if exact:
+            raise ValueError("exact=True is not available for material='koiter' (a reference "
+                             "model, not a reduction of a 3D energy)")
     _checks.check_choice("model", model, MODELS)
     names = ("lam1", "lam2", "k1", "k2", "kb1", "kb2")
     arrays = [_checks.check_finite(n, v) for n, v in zip(names, state)]
@@ -98,7 +110,7 @@ def _terms(arrays, lam, model, material, rb):
 
 
 def energy_terms(lam1, lam2, k1, k2, kb1, kb2, *, lam=1.0, model="relaxed", material="cg",
-                 rhob1=1.0, rhob2=0.0, rhob3=0.0) -> EnergyTerms:
+                 rhob1=1.0, rhob2=0.0, rhob3=0.0, nu=0.5) -> EnergyTerms:
     """Stretching and bending densities of the reduced model and its thickness map.
 
     Arguments:
@@ -108,8 +120,10 @@ def energy_terms(lam1, lam2, k1, k2, kb1, kb2, *, lam=1.0, model="relaxed", mate
         kb1, kb2: target principal curvatures bbar_aa / abar_aa, in 1/R0.
         lam: lambda*/mu* (Ciarlet-Geymonat only, > 0).
         model: ``"plane_strain"`` or ``"relaxed"`` (ignored for ``material="nh"``).
-        material: ``"cg"`` (compressible Ciarlet-Geymonat) or ``"nh"`` (incompressible).
+        material: ``"cg"`` (compressible Ciarlet-Geymonat), ``"nh"`` (incompressible), or
+            ``"koiter"`` (the morphoelastic Koiter reference shell, Poisson ratio ``nu``).
         rhob1, rhob2, rhob3: through-thickness stimulus, phib = rhob1 Z + rhob2 Z^2 + rhob3 Z^3.
+        nu: Poisson ratio of the Koiter model, in (-1, 1) (default 1/2).
 
     Returns:
         ``EnergyTerms(w_s, w_b, rho1, rho2)``: W = w_s + h^2/12 w_b; phi = rho1 Z + rho2 Z^2 + ...
@@ -118,8 +132,8 @@ def energy_terms(lam1, lam2, k1, k2, kb1, kb2, *, lam=1.0, model="relaxed", mate
         ValueError: a parameter out of range (message names it and the range).
     """
     arrays, rb, _ = _validate((lam1, lam2, k1, k2, kb1, kb2), None, lam, model, material,
-                              (rhob1, rhob2, rhob3), False)
-    ws, wb, r1, r2, _ = _terms(arrays, lam, model, material, rb)
+                              (rhob1, rhob2, rhob3), False, nu)
+    ws, wb, r1, r2, _ = _terms(arrays, material_parameter(material, lam, nu), model, material, rb)
     return EnergyTerms(ws, wb, r1, r2)
 
 
@@ -175,7 +189,7 @@ def _exact(arrays, h, lam, model, material, rb):
 
 
 def energy_density(lam1, lam2, k1, k2, kb1, kb2, *, h, lam=1.0, model="relaxed",
-                   material="cg", rhob1=1.0, rhob2=0.0, rhob3=0.0, exact=False):
+                   material="cg", rhob1=1.0, rhob2=0.0, rhob3=0.0, exact=False, nu=0.5):
     """Energy per unit target area, per mu*, per unit thickness: W = w_s + h^2/12 w_b.
 
     Arguments are those of :func:`energy_terms`, plus:
@@ -190,8 +204,8 @@ def energy_density(lam1, lam2, k1, k2, kb1, kb2, *, h, lam=1.0, model="relaxed",
         ValueError: a parameter out of range (message names it and the range).
     """
     arrays, rb, h = _validate((lam1, lam2, k1, k2, kb1, kb2), h, lam, model, material,
-                              (rhob1, rhob2, rhob3), exact)
+                              (rhob1, rhob2, rhob3), exact, nu)
     if exact:
         return _exact(arrays, h, lam, model, material, rb)
-    ws, wb, *_ = _terms(arrays, lam, model, material, rb)
+    ws, wb, *_ = _terms(arrays, material_parameter(material, lam, nu), model, material, rb)
     return ws + h**2 / 12 * wb

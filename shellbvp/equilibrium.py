@@ -204,7 +204,7 @@ def _energy(prob: _Problem, dense_t, p=None):
         s = prob.s_of(i, t)
         y = dense_t(t)[6 * i:6 * i + 6]
         X, (g1, g2, kb1, kb2) = prob.system.state(i, s, y, p)
-        ws, wb, _, _ = energy_terms(*X, kb1, kb2, lam=sc.lam, model=sc.model,
+        ws, wb, _, _ = energy_terms(*X, kb1, kb2, lam=sc.lam, nu=sc.nu, model=sc.model,
                                     material=sc.material, rhob1=sc.rhob1)
         dA = g1 * g2 * np.sin(s) * (prob.b[i] - prob.a[i]) * wt
         Es += np.sum(ws * dA)

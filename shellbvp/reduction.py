@@ -75,7 +75,7 @@ def symbols() -> dict[str, sp.Symbol]:
 
 
 MODELS = ("plane_strain", "relaxed")
-MATERIALS = ("cg", "nh")
+MATERIALS = ("cg", "nh", "koiter")
 
 
 # --- the 3D density in principal form ------------------------------------------------------
@@ -155,7 +155,27 @@ class Reduction:
     integrand: sp.Expr
 
 
+def _koiter() -> Reduction:
+    """The morphoelastic Koiter shell (Efrati et al. 2009; Pezzulla et al. PRL 2018), the
+    paper's reference model, in principal form (DESIGN §3): plane-stress stretching
+    (h/8) A(a - abar)(a - abar) and bending (h^3/24) A(b - bbar)(b - bbar) with
+    A = Y/(1 - nu^2)[nu abar^ abar^ + (1 - nu) abar^ abar^], per mu* (Y = 2 mu* (1 + nu)) and
+    per unit thickness. Not derived from 3D: it is the reference, not a reduction. Its
+    Poisson ratio nu occupies the material-parameter slot that ``lam`` holds for CG."""
+    nu = lam
+    e = [lam1**2 - 1, lam2**2 - 1]                    # (a - abar)_aa / abar_aa
+    b = [k1 * lam1**2 - kb1, k2 * lam2**2 - kb2]      # (b - bbar)_aa / abar_aa
+
+    def quad(v):
+        return (nu * (v[0] + v[1]) ** 2 + (1 - nu) * (v[0] ** 2 + v[1] ** 2)) / (1 - nu)
+
+    return Reduction("relaxed", "koiter", sp.Integer(1), sp.Integer(0), sp.Integer(0),
+                     quad(e) / 4, quad(b), sp.Integer(0))
+
+
 def _derive(model: str, material: str) -> Reduction:
+    if material == "koiter":
+        return _koiter()
     F = integrand(material)
     phi_z = rho1 * Z + rho2 * Z**2 + rho3 * Z**3
     f0, f2 = _through_thickness(F, phi_z)
@@ -188,7 +208,7 @@ def derive(model: str = "relaxed", material: str = "cg") -> Reduction:
         raise ValueError(f"material must be one of {MATERIALS}, got {material!r}")
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    if material == "nh":
+    if material in ("nh", "koiter"):
         model = "relaxed"
     return _derive_cached(model, material)
 

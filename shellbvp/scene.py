@@ -54,6 +54,7 @@ class Scene:
         breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
         metric: whether the fields change the metric (g != 1).
         parameter: name of the scalar stimulus parameter p.
+        nu: Poisson ratio of the Koiter reference model (``material="koiter"``).
     """
 
     theta: float
@@ -68,6 +69,12 @@ class Scene:
     breaks: tuple = ()
     metric: bool = False
     parameter: str = "kappa"
+    nu: float = 0.5
+
+    @property
+    def material_parameter(self) -> float:
+        """lam for cg, nu for koiter (the single material slot of the compiled functions)."""
+        return self.nu if self.material == "koiter" else self.lam
 
     def __post_init__(self):
         _checks.check_open_interval("theta", self.theta, 0.0, math.pi,
@@ -77,6 +84,8 @@ class Scene:
         _checks.check_choice("material", self.material, MATERIALS)
         if self.material == "cg":
             _checks.check_positive("lam", self.lam)
+        if self.material == "koiter":
+            _checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
         _checks.check_positive("rhob1", self.rhob1)
         _checks.check_choice("apex", self.apex, APEX)
         _checks.check_choice("edge", self.edge, EDGE)

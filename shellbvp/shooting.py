@@ -101,7 +101,7 @@ def shoot(prob, guess, tol, n_segments, steps=None, newton_tol=None):
     newton_tol = 10 * tol if newton_tol is None else newton_tol
     T = sc.theta
     history, ok = [], False
-    args = (prob.p, sc.lam, sc.h)
+    args = (prob.p, sc.material_parameter, sc.h)
     for it in range(NEWTON_MAXITER):
         ends, sens = (np.asarray(a) for a in flow_and_sens(piece, U, s0, s1, *args, ode_tol))
         rp, Jp = (np.asarray(a) for a in pole_and_jac(U[0], prob.eps, *args, sc.apex == "held"))
