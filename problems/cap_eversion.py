@@ -104,7 +104,7 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                       dict(b.stats) | {"fold": f.stats})
 
 
-def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-8,
+def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-8,
                csv_path=None, progress=True):
     """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
 
@@ -121,7 +121,8 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", tol=1e-8
                          f"got {T_values!r}")
     rows = []
     for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
-        r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, tol=tol)
+        r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu,
+                           tol=tol)
         rows.append((T, r.theta, r.kappa_s, r.w_s, r.error_estimate, r.snaps))
     out = {k: np.array([row[i] for row in rows]) for i, k in
            enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps"))}

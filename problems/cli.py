@@ -33,7 +33,9 @@ def _common(p, theta=True):
     p.add_argument("--h", type=float, default=0.01, help="thickness h0/R0 in (0, 1) (default 0.01)")
     p.add_argument("--lam", type=float, default=1.0, help="lambda*/mu* > 0 (default 1)")
     p.add_argument("--model", default="relaxed", choices=["plane_strain", "relaxed"])
-    p.add_argument("--material", default="cg", choices=["cg", "nh"])
+    p.add_argument("--material", default="cg", choices=["cg", "nh", "koiter"])
+    p.add_argument("--nu", type=float, default=0.5,
+                   help="Poisson ratio of the Koiter reference model (default 0.5)")
     p.add_argument("--tol", type=float, default=1e-8, help="fold tolerance (default 1e-8)")
 
 
@@ -67,7 +69,7 @@ def main(argv=None) -> int:
     from problems import cap_eversion as ce
     import shellbvp
 
-    opts = dict(model=a.model, material=a.material)
+    opts = dict(model=a.model, material=a.material, nu=a.nu)
     try:
         if a.command == "snap":
             r = ce.snap_curvature(a.theta, a.h, a.lam, tol=a.tol, **opts)
