@@ -269,8 +269,10 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
     eps = 1e-4 * scene.theta if eps is None else float(eps)
     if not (0 < eps < (scene.breaks[0] if scene.breaks else scene.theta) / 10):
         raise ValueError(f"eps must lie in (0, first piece length / 10), got {eps!r}")
-    prof = guess if callable(guess) and not isinstance(guess, Equilibrium) else (
-        guess.__call__ if isinstance(guess, Equilibrium) else reference_state)
+    if guess is not None and not callable(guess):
+        raise ValueError(f"guess must be an Equilibrium or a callable s -> (6, n), got "
+                         f"{type(guess).__name__}")
+    prof = reference_state if guess is None else guess  # an Equilibrium is callable in s
     t0 = time.perf_counter()
     prob = _Problem(scene, p, eps)
     try:
