@@ -36,7 +36,10 @@ def _common(p, theta=True):
     p.add_argument("--material", default="cg", choices=["cg", "nh", "koiter"])
     p.add_argument("--nu", type=float, default=0.5,
                    help="Poisson ratio of the Koiter reference model (default 0.5)")
-    p.add_argument("--tol", type=float, default=1e-8, help="fold tolerance (default 1e-8)")
+    p.add_argument("--tol", type=float, default=1e-9,
+                   help="target accuracy of kappa_s, in (0, 1) (default 1e-9)")
+    p.add_argument("--backend", default="spectral", choices=["spectral", "shooting", "collocation"],
+                   help="BVP back-end (default spectral: Chebyshev collocation)")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -69,7 +72,9 @@ def main(argv=None) -> int:
     from problems import cap_eversion as ce
     import shellbvp
 
-    opts = dict(model=a.model, material=a.material, nu=a.nu)
+    opts = dict(model=a.model, material=a.material, nu=a.nu, backend=a.backend)
+    if not (0 < a.tol < 1):
+        p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
     try:
         if a.command == "snap":
             r = ce.snap_curvature(a.theta, a.h, a.lam, tol=a.tol, **opts)
@@ -81,9 +86,7 @@ def main(argv=None) -> int:
             else:
                 print("no snap: the cap everts without a fold (kappa_s undefined)")
         elif a.command == "branch":
-            br = ce.branch(a.theta, a.h, a.lam, kappa_max=a.kappa_max,
-                           options=shellbvp.ContinuationOptions(ds=0.1, ds_max=0.5,
-                                                                fold_tol=a.tol), **opts)
+            br = ce.branch(a.theta, a.h, a.lam, kappa_max=a.kappa_max, tol=a.tol, **opts)
             br.to_csv(a.csv)
             print(f"{br.p.size} points, {len(br.folds)} fold(s) -> {a.csv}")
         else:

@@ -138,14 +138,47 @@ def point_functions(model, material, rhob1, metric):
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
         return f, fy - fq @ jnp.linalg.solve(Gq, Gy), ok
 
-    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac}
+    def f_and_G(y, q, s, F, lam, h):
+        # f and G need only the W gradient (no Hessian): used for derivatives in the fields.
+        X = X_of(y, q, s, F, h)
+        g = jax.jacfwd(W4)(X, F[2], F[3], lam, h)
+        a = args(y, q, s, F, g, zero44, h)
+        return _arr(el["f"](*a)), _arr(el["G"](*a))
+
+    def rhs_jac_p(y, s, F, dF, lam, h):
+        """f, df/dy and the derivative of f along a change dF of the fields (a parameter
+        derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
+        q, _, ok = algebraic(y, s, F, lam, h)
+        X, g, H = jet(y, q, s, F, lam, h)
+        a = args(y, q, s, F, g, H, h)
+        f = _arr(el["f"](*a))
+        fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
+        Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
+        _, (df, dG) = jax.jvp(lambda F_: f_and_G(y, q, s, F_, lam, h), (F,), (dF,))
+        J = fy - fq @ jnp.linalg.solve(Gq, Gy)
+        return f, J, df - fq @ jnp.linalg.solve(Gq, dG), ok
+
+    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac, "rhs_jac_p": rhs_jac_p}
 
 
 @lru_cache(maxsize=None)
 def _batched(model, material, rhob1, metric):
     pf = point_functions(model, material, rhob1, metric)
     ax = (1, 0, 1, None, None)
-    return {k: jax.jit(jax.vmap(v, in_axes=ax)) for k, v in pf.items()}
+    out = {k: jax.jit(jax.vmap(v, in_axes=ax)) for k, v in pf.items() if k != "rhs_jac_p"}
+    out["rhs_jac_p"] = jax.jit(jax.vmap(pf["rhs_jac_p"], in_axes=(1, 0, 1, 1, None, None)))
+    return out
+
+
+@lru_cache(maxsize=64)
+def _fields_tangent(fields, piece):
+    """Compiled (s, p) -> (F, dF/dp) for one piece of a scene's fields (forward-mode AD)."""
+    def fp(s, p):
+        return jax.jvp(lambda p_: jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
+                                              for v in fields(piece, s, p_)]),
+                       (p,), (jnp.ones_like(p),))
+
+    return jax.jit(fp)
 
 
 class AxisymmetricSystem:
@@ -169,6 +202,10 @@ class AxisymmetricSystem:
         s = np.atleast_1d(np.asarray(s, dtype=float))
         y = np.asarray(y, dtype=float).reshape(6, -1)
         F = np.stack(self.fields(piece, s, p))
+        extra = ()
+        if name == "rhs_jac_p":
+            _, dF = _fields_tangent(self.scene.fields, piece)(s, float(self.p if p is None else p))
+            extra = (np.asarray(dF),)
         n = s.size
         size = next((c for c in CHUNKS if n <= c), CHUNKS[-1])
         outs = []
@@ -179,7 +216,8 @@ class AxisymmetricSystem:
             sp_ = np.pad(s[sl], (0, pad), mode="edge")
             yp = np.pad(y[:, sl], ((0, 0), (0, pad)), mode="edge")
             Fp = np.pad(F[:, sl], ((0, 0), (0, pad)), mode="edge")
-            res = self.fns[name](yp, sp_, Fp, self.scene.material_parameter,
+            ex = [np.pad(e[:, sl], ((0, 0), (0, pad)), mode="edge") for e in extra]
+            res = self.fns[name](yp, sp_, Fp, *ex, self.scene.material_parameter,
                                   self.scene.h)
             outs.append([np.asarray(r)[: stop - start] for r in res])
         self.calls += 1
@@ -202,6 +240,11 @@ class AxisymmetricSystem:
         """f (6, n) and df/dy (6, 6, n)."""
         f, J = self._call("rhs_jac", piece, s, y, p)
         return f.T, np.moveaxis(J, 0, -1)
+
+    def rhs_jac_p(self, piece, s, y, p=None):
+        """f (6, n), df/dy (6, 6, n) and df/dp (6, n), p the scene's parameter."""
+        f, J, fp = self._call("rhs_jac_p", piece, s, y, p)
+        return f.T, np.moveaxis(J, 0, -1), fp.T
 
     def state(self, piece, s, y, p=None):
         """Principal state X = (lam1, lam2, k1, k2) (4, n) and the fields at s."""

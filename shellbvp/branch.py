@@ -12,16 +12,18 @@ from __future__ import annotations
 import csv
 import io
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .axisym import ConvergenceError
 from .cache import atomic_write_text
 from .continuation import ContinuationOptions, continuation
 from .equilibrium import _energy, _Problem, reference_state
 from .scene import Scene
 
-__all__ = ["Branch", "FoldPoint", "follow"]
+__all__ = ["Branch", "FoldPoint", "follow", "BRANCH_BACKENDS", "default_nodes"]
 
 
 @dataclass(frozen=True)
@@ -76,15 +78,47 @@ class Branch:
         atomic_write_text(path, buf.getvalue())
 
 
-def follow(scene: Scene, *, p0: float = 0.0, p_stop=(-math.inf, math.inf), n_folds=None,
-           w_stop=(-math.inf, math.inf), options: ContinuationOptions = ContinuationOptions(),
-           eps: float | None = None, progress=None) -> Branch:
+BRANCH_BACKENDS = ("spectral", "shooting", "collocation")
+
+
+def follow(scene: Scene, *, backend: str = "spectral", p0: float = 0.0,
+           p_stop=(-math.inf, math.inf), n_folds=None, w_stop=(-math.inf, math.inf),
+           options: ContinuationOptions | None = None, eps: float | None = None,
+           progress=None, energies: bool = True, nodes: int | None = None,
+           shooting_segments: int = 16) -> Branch:
     """Continue ``scene`` in its parameter from p0 (starting from the undeformed cap).
 
+    Back-ends: ``"spectral"`` (Chebyshev collocation, :mod:`shellbvp.spectral`; the fast
+    default), ``"shooting"`` (multiple shooting with diffrax), both continued by
+    :mod:`shellbvp.discrete` (exact tangents, folds located by dp/dm = 0), or
+    ``"collocation"`` (scipy's solve_bvp, :mod:`shellbvp.continuation`, Moore-Spence folds).
+
+    Fold accuracy: every fold is located to ``options.fold_tol`` in p and carries an error
+    estimate from refinement - spectral: the fold is re-located with 8 more nodes per piece
+    until p changes by at most fold_tol (the change is the estimate; the finer value is
+    returned); shooting: re-located at 1/10 of the ODE tolerance; collocation: mesh halving.
+
     Stops when p leaves ``p_stop``, w leaves ``w_stop`` (in R0), after ``n_folds`` folds, or
-    after ``options.max_steps`` points. Raises ConvergenceError on failure.
+    after ``options.max_steps`` points. ``energies=False`` skips the energy columns (nan).
+    Raises ValueError for bad arguments and ConvergenceError on failure.
     """
+    if backend not in BRANCH_BACKENDS:
+        raise ValueError(f"backend must be one of {BRANCH_BACKENDS}, got {backend!r}")
     eps = 1e-4 * scene.theta if eps is None else float(eps)
+    if backend == "collocation":
+        return _follow_collocation(scene, p0, p_stop, n_folds, w_stop,
+                                   options or ContinuationOptions(), eps, progress, energies)
+    return _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop,
+                            options or ContinuationOptions(ds=0.5, ds_max=100.0), eps,
+                            progress, energies, nodes, shooting_segments)
+
+
+def _nan_energies(n):
+    return np.full((n, 2), math.nan)
+
+
+def _follow_collocation(scene, p0, p_stop, n_folds, w_stop, options, eps, progress,
+                        energies):
     prob = _Problem(scene, p0, eps)
     H = 1.0 - math.cos(scene.theta)
     t = np.linspace(0.0, 1.0, 41)
@@ -92,7 +126,8 @@ def follow(scene: Scene, *, p0: float = 0.0, p_stop=(-math.inf, math.inf), n_fol
                        n_folds=n_folds, options=options,
                        monitor_stop=(w_stop[0] / H, w_stop[1] / H), progress=progress)
     pts = res.points
-    E = np.array([_energy(prob, pt.sol, pt.p) for pt in pts])
+    E = np.array([_energy(prob, pt.sol, pt.p) for pt in pts]) if energies else \
+        _nan_energies(len(pts))
     folds = tuple(FoldPoint(p=f.p, w=f.monitor * H, error_estimate=f.error_estimate,
                             index=f.bracket[0] + 1 if f.bracket else 0, stats=f.stats)
                   for f in res.folds)
@@ -100,4 +135,75 @@ def follow(scene: Scene, *, p0: float = 0.0, p_stop=(-math.inf, math.inf), n_fol
                   w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
                   stretching_energy=E[:, 0], bending_energy=E[:, 1],
                   arclength=np.array([pt.arclength for pt in pts]), folds=folds,
-                  stats=res.stats)
+                  stats=dict(res.stats, backend="collocation"))
+
+
+def default_nodes(scene: Scene) -> int:
+    """Chebyshev degree per piece for the continuation: the edge boundary layer has width
+    ~ sqrt(h) R0, so the degree grows with the shallowness theta / sqrt(h) (24 at T <= 4)."""
+    T = scene.theta / math.sqrt(scene.h)
+    return int(8 * math.ceil(max(3.0, 0.75 * T)))
+
+
+MAX_NODES = 256
+
+
+def _system(scene, backend, eps, nodes, shooting_segments, refine=0):
+    if backend == "spectral":
+        from .spectral import SpectralSystem
+
+        return SpectralSystem(scene, nodes + 8 * refine, eps)
+    from .shooting import ShootingSystem
+
+    return ShootingSystem(scene, shooting_segments, eps, ode_tol=1e-10 / 10**refine)
+
+
+def _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop, options, eps, progress,
+                     energies, nodes, shooting_segments):
+    from .discrete import follow_discrete, locate_fold, polish_fold
+
+    t0 = time.perf_counter()
+    nodes = default_nodes(scene) if nodes is None else int(nodes)
+    cont = _system(scene, backend, eps, nodes, shooting_segments)
+    H = 1.0 - math.cos(scene.theta)
+    U0 = cont.from_profile(reference_state)
+    pts, brackets = follow_discrete(
+        cont, U0, p0, ds=options.ds, ds_min=options.ds_min, ds_max=options.ds_max,
+        max_steps=options.max_steps, p_stop=p_stop,
+        monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds,
+        progress=progress)
+    folds = []
+    for i, j in brackets:
+        system = cont
+        coarse = locate_fold(system, pts[i], pts[j])
+        stats = dict(coarse.stats)
+        for k in range(1, 64):
+            fine_sys = _system(scene, backend, eps, nodes, shooting_segments, refine=k)
+            if backend == "spectral" and fine_sys.N > MAX_NODES:
+                raise ConvergenceError(
+                    f"fold near {scene.parameter} = {coarse.p:.10g}: no convergence to "
+                    f"fold_tol = {options.fold_tol:g} up to {MAX_NODES} nodes (last change "
+                    f"{stats['error_estimate']:.2e})")
+            Uf = system.resample(coarse.U, fine_sys.N) if backend == "spectral" else coarse.U
+            fine = polish_fold(fine_sys, Uf, coarse.p, coarse.monitor)
+            err = abs(fine.p - coarse.p)
+            stats = dict(stats, error_estimate=err, refinements=k,
+                         resolution=getattr(fine_sys, "N", None))
+            if err <= options.fold_tol or backend != "spectral":
+                break
+            system, coarse = fine_sys, fine
+        folds.append(FoldPoint(p=fine.p, w=fine.monitor * H, error_estimate=err, index=i,
+                               stats=stats))
+    if energies:
+        from .equilibrium import _Problem as Prob
+
+        E = np.array([_energy(Prob(scene, pt.p, eps), cont.dense(pt.U, pt.p), pt.p) for pt in pts])
+    else:
+        E = _nan_energies(len(pts))
+    return Branch(scene=scene, p=np.array([pt.p for pt in pts]),
+                  w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
+                  stretching_energy=E[:, 0], bending_energy=E[:, 1],
+                  arclength=np.array([pt.arclength for pt in pts]), folds=tuple(folds),
+                  stats=dict(backend=backend, points=len(pts), nodes=nodes,
+                             evaluations=getattr(cont, "evaluations", None),
+                             wall_time=time.perf_counter() - t0))

@@ -29,7 +29,7 @@ from .scene import Scene
 
 __all__ = ["Equilibrium", "solve", "BACKENDS", "ConvergenceError", "reference_state"]
 
-BACKENDS = ("collocation", "shooting")
+BACKENDS = ("collocation", "shooting", "spectral")
 
 
 def reference_state(s):
@@ -174,6 +174,20 @@ def _collocation(prob: _Problem, guess, tol, max_nodes, nodes):
     return res.success, res.message, res.x, res.y, dense, stats
 
 
+def _spectral(prob: _Problem, guess, tol, nodes):
+    from .discrete import newton
+    from .spectral import SpectralSystem
+
+    system = SpectralSystem(prob.scene, nodes, prob.eps)
+    res = newton(system, system.from_profile(guess), prob.p, 0.0, 1.0, prob.p,
+                 tol=min(tol, 1e-10), maxiter=40, contraction=None)
+    Y = res.U.reshape(prob.P * 6, nodes + 1)
+    stats = dict(backend="spectral", nodes=nodes, newton_iterations=res.iterations,
+                 newton_history=res.history, chebyshev_tail=system.tail(res.U))
+    msg = "converged" if res.ok else f"Newton did not converge: {res.history}"
+    return res.ok, msg, system.t, Y, system.dense(res.U), stats
+
+
 def _dense_in_s(prob: _Problem, dense_t):
     def ev(s):
         s = np.atleast_1d(s)
@@ -236,7 +250,7 @@ def _build(prob, ok, msg, tnodes, Y, dense_t, stats, err):
 
 
 def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
-          tol: float = 1e-8, eps: float | None = None, nodes: int = 41,
+          tol: float = 1e-8, eps: float | None = None, nodes: int | None = None,
           max_nodes: int = 20000, estimate_error: bool = True, throw: bool = True,
           shooting_segments: int = 16, shooting_steps: int | None = None) -> Equilibrium:
     """Solve the axisymmetric equilibrium of ``scene`` at parameter value ``p``.
@@ -244,13 +258,18 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
     Arguments:
         scene: the problem (geometry, stimulus, material, boundary conditions).
         p: value of ``scene.parameter`` (e.g. kappa, in 1/R0).
-        backend: ``"collocation"`` (scipy.integrate.solve_bvp, 4th order, analytic Jacobian)
-            or ``"shooting"`` (multiple shooting with diffrax and Newton).
+        backend: ``"collocation"`` (scipy.integrate.solve_bvp, 4th order, analytic Jacobian),
+            ``"shooting"`` (multiple shooting with diffrax and Newton) or ``"spectral"``
+            (Chebyshev collocation of degree ``nodes`` per piece, Newton; geometric
+            convergence, :mod:`shellbvp.spectral`).
         guess: an :class:`Equilibrium` (e.g. the previous continuation step) or a callable
             s -> (6, n); default the undeformed cap.
         tol: solver tolerance (collocation: relative residual; shooting: ODE rtol and Newton).
         eps: pole offset (default 1e-4 theta).
-        estimate_error: re-solve at tol/10 from the solution and report the change.
+        nodes: initial mesh size (collocation, default 41) or Chebyshev degree per piece
+            (spectral, default :func:`shellbvp.branch.default_nodes`).
+        estimate_error: re-solve at tol/10 (spectral: with degree + 8) from the
+            solution and report the change.
         throw: raise :class:`ConvergenceError` on failure (else return ``success=False``).
         shooting_segments: number of shooting segments (at least one per piece).
         shooting_steps: fixed Tsit5 steps per segment (default: adaptive at rtol = tol).
@@ -273,11 +292,19 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
         raise ValueError(f"guess must be an Equilibrium or a callable s -> (6, n), got "
                          f"{type(guess).__name__}")
     prof = reference_state if guess is None else guess  # an Equilibrium is callable in s
+    if nodes is None:
+        from .branch import default_nodes
+
+        nodes = default_nodes(scene) if backend == "spectral" else 41
+    if not (isinstance(nodes, (int, np.integer)) and nodes >= 8):
+        raise ValueError(f"nodes must be an integer >= 8, got {nodes!r}")
     t0 = time.perf_counter()
     prob = _Problem(scene, p, eps)
     try:
         if backend == "collocation":
             ok, msg, tn, Y, dense, stats = _collocation(prob, prof, tol, max_nodes, nodes)
+        elif backend == "spectral":
+            ok, msg, tn, Y, dense, stats = _spectral(prob, prof, tol, nodes)
         else:
             from .shooting import shoot
 
@@ -297,8 +324,9 @@ def solve(scene: Scene, p: float, *, backend: str = "collocation", guess=None,
         return _failed(scene, p, msg, stats)
     eq = _build(prob, ok, msg, tn, Y, dense, stats, float("nan"))
     if estimate_error:
+        finer = nodes + 8 if backend == "spectral" else max(nodes, eq.s.size)
         fine = solve(scene, p, backend=backend, guess=eq, tol=tol / 10, eps=eps,
-                     nodes=max(nodes, eq.s.size), max_nodes=max_nodes, estimate_error=False,
+                     nodes=finer, max_nodes=max_nodes, estimate_error=False,
                      throw=throw, shooting_segments=shooting_segments,
                      shooting_steps=shooting_steps)
         diff = np.abs(fine(eq.s)[:3] - eq(eq.s)[:3])

@@ -103,6 +103,10 @@ class Scene:
         """The fields on ``piece`` at s, checked: finite, g > 0, g = 1 unless ``metric``."""
         out = [np.broadcast_to(np.asarray(v, dtype=float), np.shape(s))
                for v in self.fields(piece, np.asarray(s, dtype=float), p)]
+        return self.check_fields(out, piece, p)
+
+    def check_fields(self, out, piece, p):
+        """Raise a named ValueError unless the fields (g1, g2, kb1, kb2) are admissible."""
         names = ("g1", "g2", "kb1", "kb2")
         for n, v in zip(names, out):
             if not np.all(np.isfinite(v)):

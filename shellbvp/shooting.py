@@ -62,8 +62,9 @@ def _compiled(model, material, rhob1, metric, fields, n_pieces, adaptive):
         return solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(t1=True)).ys[-1]
 
     def flow_and_sens(piece, y0, s0, s1, p, lam, h, tol):
+        # Sensitivities to the initial state and to the parameter (forward mode).
         return (flow(y0, piece, s0, s1, p, lam, h, tol),
-                jax.jacfwd(flow)(y0, piece, s0, s1, p, lam, h, tol))
+                *jax.jacfwd(flow, argnums=(0, 4))(y0, piece, s0, s1, p, lam, h, tol))
 
     def pole(y0, eps, p, lam, h, held):
         q, X, ok = pf["algebraic"](y0, eps, F_of(0, eps, p), lam, h)
@@ -71,7 +72,8 @@ def _compiled(model, material, rhob1, metric, fields, n_pieces, adaptive):
         return jnp.stack([X[0] - X[1], X[2] - X[3], third])
 
     def pole_and_jac(y0, eps, p, lam, h, held):
-        return pole(y0, eps, p, lam, h, held), jax.jacfwd(pole)(y0, eps, p, lam, h, held)
+        return (pole(y0, eps, p, lam, h, held),
+                *jax.jacfwd(pole, argnums=(0, 2))(y0, eps, p, lam, h, held))
 
     def dense(piece, y0, s0, s1, p, lam, h, tol):
         ts = s0 + (s1 - s0) * jnp.linspace(0.0, 1.0, SAVE_PER_SEGMENT)
@@ -84,71 +86,133 @@ def _compiled(model, material, rhob1, metric, fields, n_pieces, adaptive):
             jax.jit(jax.vmap(dense, in_axes=seg_axes)))
 
 
-def shoot(prob, guess, tol, n_segments, steps=None, newton_tol=None):
-    """Solve the stacked problem ``prob`` by multiple shooting; same returns as collocation."""
-    sc = prob.scene
-    per_piece = max(1, int(math.ceil(n_segments / prob.P)))
-    edges = [np.linspace(prob.a[i], prob.b[i], per_piece + 1) for i in range(prob.P)]
-    s0 = np.concatenate([e[:-1] for e in edges])
-    s1 = np.concatenate([e[1:] for e in edges])
-    piece = np.repeat(np.arange(prob.P), per_piece)
-    N = s0.size
-    flow_and_sens, pole_and_jac, dense = _compiled(
-        sc.model, sc.material, float(sc.rhob1), bool(sc.metric), sc.fields, prob.P,
-        steps is None)
-    ode_tol = tol if steps is None else float(steps)
-    U = np.asarray(guess(s0), dtype=float).T.copy()  # (N, 6)
-    newton_tol = 10 * tol if newton_tol is None else newton_tol
-    T = sc.theta
-    history, ok = [], False
-    args = (prob.p, sc.material_parameter, sc.h)
-    for it in range(NEWTON_MAXITER):
-        ends, sens = (np.asarray(a) for a in flow_and_sens(piece, U, s0, s1, *args, ode_tol))
-        rp, Jp = (np.asarray(a) for a in pole_and_jac(U[0], prob.eps, *args, sc.apex == "held"))
-        n = 6 * N
-        r = np.empty(n)
-        J = np.zeros((n, n))
-        r[:3], J[:3, :6] = rp, Jp
-        for j in range(N - 1):  # continuity: flow_j(U_j) - U_{j+1}
+class ShootingSystem:
+    """Multiple shooting of a scene as a finite system R(U, p) = 0 (the
+    :class:`shellbvp.discrete.DiscreteSystem` protocol).
+
+    Unknowns: the states at the segment starts and the state at the edge, U = (U_0, ...,
+    U_{n-1}, y_edge) (6 (n + 1) values). Equations: pole conditions (3), continuity
+    flow_j(U_j) = U_{j+1} and flow_{n-1}(U_{n-1}) = y_edge (6 n), edge conditions (3). dR/dU
+    and dR/dp are exact (forward-mode sensitivities through Tsit5).
+
+    Arguments:
+        scene: the problem; segments: total number of segments (at least one per piece);
+        eps: pole offset; ode_tol: Tsit5 PID tolerance, or ``steps`` fixed steps per segment.
+    """
+
+    def __init__(self, scene, segments: int = 16, eps: float | None = None,
+                 ode_tol: float = 1e-10, steps: int | None = None):
+        from .equilibrium import _Problem
+
+        eps = 1e-4 * scene.theta if eps is None else float(eps)
+        self.scene, self.eps = scene, eps
+        self.problem = prob = _Problem(scene, 0.0, eps)
+        per_piece = max(1, int(math.ceil(segments / prob.P)))
+        edges = [np.linspace(prob.a[i], prob.b[i], per_piece + 1) for i in range(prob.P)]
+        self.s0 = np.concatenate([e[:-1] for e in edges])
+        self.s1 = np.concatenate([e[1:] for e in edges])
+        self.piece = np.repeat(np.arange(prob.P), per_piece)
+        self.per_piece = per_piece
+        self.n = self.s0.size
+        self.size = 6 * (self.n + 1)
+        self.ode_tol = ode_tol if steps is None else float(steps)
+        self._flow, self._pole, self._dense = _compiled(
+            scene.model, scene.material, float(scene.rhob1), bool(scene.metric), scene.fields,
+            prob.P, steps is None)
+        self.evaluations = 0
+
+    def _args(self, p):
+        return (float(p), self.scene.material_parameter, self.scene.h)
+
+    def from_profile(self, profile) -> np.ndarray:
+        y = np.asarray(profile(np.append(self.s0, self.scene.theta)), dtype=float)
+        return y.T.ravel()
+
+    def evaluate(self, U, p):
+        sc, n = self.scene, self.n
+        Y = np.asarray(U, dtype=float).reshape(n + 1, 6)
+        ends, sens, sens_p = (np.asarray(a) for a in self._flow(
+            self.piece, Y[:-1], self.s0, self.s1, *self._args(p), self.ode_tol))
+        rp, Jp, Jpp = (np.asarray(a) for a in self._pole(Y[0], self.eps, *self._args(p),
+                                                          sc.apex == "held"))
+        self.evaluations += 1
+        R = np.empty(self.size)
+        J = np.zeros((self.size, self.size))
+        Rp = np.zeros(self.size)
+        R[:3], J[:3, :6], Rp[:3] = rp, Jp, Jpp
+        for j in range(n):  # continuity: flow_j(U_j) - U_{j+1} (U_n = y_edge)
             rows = slice(3 + 6 * j, 9 + 6 * j)
-            r[rows] = ends[j] - U[j + 1]
+            R[rows] = ends[j] - Y[j + 1]
             J[rows, 6 * j:6 * j + 6] = sens[j]
             J[rows, 6 * j + 6:6 * j + 12] = -np.eye(6)
-        e, S = ends[-1], sens[-1]
+            Rp[rows] = sens_p[j]
+        e = Y[-1]
+        T = sc.theta
         if sc.edge == "free":
-            r[-3:], J[-3:, -6:] = e[3:6], S[3:6]
+            R[-3:], comps = e[3:6], (3, 4, 5)
         else:
-            r[-3:] = [e[0] - math.sin(T), e[1] - (math.cos(T) - 1.0), e[2] - T]
-            J[-3:, -6:] = S[0:3]
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
+            R[-3:], comps = [e[0] - math.sin(T), e[1] - (math.cos(T) - 1.0), e[2] - T], (0, 1, 2)
+        for k, c in enumerate(comps):
+            J[self.size - 3 + k, 6 * n + c] = 1.0
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J)) and np.all(np.isfinite(Rp))):
             raise ConvergenceError(
-                f"shooting: non-finite residual at Newton iteration {it} "
-                f"({sc.parameter} = {prob.p:g}); the ODE solver or the inner Newton failed "
-                f"on a segment - use more segments or a closer guess")
-        dU = np.linalg.solve(J, r).reshape(N, 6)
-        U = U - dU
-        history.append((float(np.max(np.abs(r))), float(np.max(np.abs(dU)))))
-        # Quadratic convergence: after a step of size d the error is O(d^2).
-        if history[-1][1] <= newton_tol * (1 + np.max(np.abs(U))) and it >= 1:
-            ok = True
-            break
-        if it >= 3 and history[-1][0] > history[-3][0]:
-            break
-    msg = "converged" if ok else f"Newton did not converge: (|residual|, |step|) = {history}"
-    ts, ys, fs = (np.asarray(a) for a in dense(piece, U, s0, s1, *args, ode_tol))
-    splines = []
-    for i in range(prob.P):
-        sel = np.flatnonzero(piece == i)
-        cat = lambda a: np.concatenate([a[j] if k == 0 else a[j][1:]  # noqa: E731
-                                        for k, j in enumerate(sel)])
-        splines.append(CubicHermiteSpline(cat(ts), cat(ys), cat(fs), axis=0))
+                f"shooting: non-finite residual ({sc.parameter} = {p:g}); the ODE solver or the "
+                f"inner Newton failed on a segment - use more segments or a closer guess")
+        return R, J, Rp
 
-    def dense_t(t):
-        t = np.asarray(t, dtype=float)
-        return np.concatenate([splines[i](prob.s_of(i, t)).T for i in range(prob.P)])
+    def monitor(self, U):
+        Y = np.asarray(U, dtype=float).reshape(self.n + 1, 6)
+        m = float(self.problem.monitor(Y[0], Y[-1]))
+        H = 1.0 - math.cos(self.scene.theta)
+        g = np.zeros((self.n + 1, 6))
+        g[-1, 1] = 1.0 / H
+        g[0, 1] = -1.0 / H
+        g[0, 0] = -Y[0, 2] / 2 / H
+        g[0, 2] = -Y[0, 0] / 2 / H
+        return m, g.ravel()
 
-    tn = np.linspace(0.0, 1.0, per_piece * (SAVE_PER_SEGMENT - 1) + 1)  # the saved points
-    stats = dict(backend="shooting", segments=N, newton_iterations=len(history),
+    @property
+    def output_nodes(self):
+        """The t nodes at which :meth:`dense` saves the solution (per piece)."""
+        return np.linspace(0.0, 1.0, self.per_piece * (SAVE_PER_SEGMENT - 1) + 1)
+
+    def dense(self, U, p):
+        """Stacked (6 P, n) cubic Hermite interpolant in the piece coordinate t."""
+        prob = self.problem
+        Y = np.asarray(U, dtype=float).reshape(self.n + 1, 6)
+        ts, ys, fs = (np.asarray(a) for a in self._dense(
+            self.piece, Y[:-1], self.s0, self.s1, *self._args(p), self.ode_tol))
+        splines = []
+        for i in range(prob.P):
+            sel = np.flatnonzero(self.piece == i)
+            cat = lambda a: np.concatenate([a[j] if k == 0 else a[j][1:]  # noqa: E731
+                                            for k, j in enumerate(sel)])
+            splines.append(CubicHermiteSpline(cat(ts), cat(ys), cat(fs), axis=0))
+
+        def dense_t(t):
+            t = np.asarray(t, dtype=float)
+            return np.concatenate([splines[i](prob.s_of(i, t)).T for i in range(prob.P)])
+
+        return dense_t
+
+
+def shoot(prob, guess, tol, n_segments, steps=None, newton_tol=None):
+    """Solve the stacked problem ``prob`` by multiple shooting (Newton on
+    :class:`ShootingSystem` at fixed p); same returns as the collocation back-end."""
+    from .discrete import newton
+
+    system = ShootingSystem(prob.scene, n_segments, prob.eps, ode_tol=tol, steps=steps)
+    newton_tol = 10 * tol if newton_tol is None else newton_tol
+    res = newton(system, system.from_profile(guess), prob.p, 0.0, 1.0, prob.p,
+                 tol=newton_tol, maxiter=NEWTON_MAXITER, contraction=None)
+    history = res.history
+    tn = system.output_nodes
+    stats = dict(backend="shooting", segments=system.n, newton_iterations=len(history),
                  newton_history=history, nodes=int(tn.size) * prob.P,
-                 max_abs_residual=history[-1][0] if history else float("nan"))
-    return ok, msg, tn, dense_t(tn), dense_t, stats
+                 max_abs_residual=history[-1][0] if history and
+                 isinstance(history[-1][0], float) else float("nan"))
+    if not res.ok:
+        return False, f"Newton did not converge: (|residual|, |step|) = {history}", None, \
+            None, None, stats
+    dense_t = system.dense(res.U, prob.p)
+    return True, "converged", tn, dense_t(tn), dense_t, stats

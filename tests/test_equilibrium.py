@@ -192,7 +192,7 @@ def test_bad_scene_is_named(kwargs, name):
 
 def test_bad_solve_arguments_are_named():
     with pytest.raises(ValueError, match="backend"):
-        solve(CAP, 1.0, backend="spectral")
+        solve(CAP, 1.0, backend="chebfun")
     with pytest.raises(ValueError, match="kappa"):
         solve(CAP, float("nan"))
     bad = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0 + 0 * s, 1.0 + 0 * s, np.nan + s, s))
