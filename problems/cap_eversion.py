@@ -23,7 +23,8 @@ import numpy as np
 import shellbvp
 from shellbvp import ContinuationOptions, Scene
 
-__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset"]
+__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset",
+           "Onset", "flat_slope"]
 
 
 def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene:
@@ -110,7 +111,8 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
         return SnapResult(False, math.nan, math.nan, math.nan, theta, h, lam, model, material,
                           T, dict(b.stats))
     f = b.folds[0]
-    return SnapResult(True, f.p, f.w, f.error_estimate, theta, h, lam, model, material, T,
+    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam, model,
+                      material, T,
                       dict(b.stats) | {"fold": f.stats})
 
 
@@ -133,7 +135,8 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
         r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu,
                            tol=tol, backend=backend)
-        rows.append((T, r.theta, r.kappa_s, r.w_s, r.error_estimate, r.snaps))
+        rows.append((float(T), float(r.theta), float(r.kappa_s), float(r.w_s),
+                     float(r.error_estimate), bool(r.snaps)))
     out = {k: np.array([row[i] for row in rows]) for i, k in
            enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps"))}
     if csv_path is not None:
@@ -143,16 +146,65 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     return out
 
 
-def onset(h, lam=1.0, *, model="relaxed", material="cg", T_lo=1.0, T_hi=6.0, T_tol=0.01):
-    """The smallest shallowness T = Theta sqrt(R0/h0) at which the branch has a fold, by
-    bisection on 'snaps' between T_lo (must not snap) and T_hi (must snap)."""
-    def snaps(T):
-        return snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material,
-                              tol=1e-6).snaps
+@dataclass(frozen=True)
+class Onset:
+    """The smallest shallowness T = Theta sqrt(R0/h0) at which the cap snaps.
 
-    if snaps(T_lo) or not snaps(T_hi):
-        raise ValueError(f"onset: need no snap at T_lo = {T_lo} and a snap at T_hi = {T_hi}")
-    while T_hi - T_lo > T_tol:
-        mid = 0.5 * (T_lo + T_hi)
-        T_lo, T_hi = (T_lo, mid) if snaps(mid) else (mid, T_hi)
-    return 0.5 * (T_lo + T_hi), 0.5 * (T_hi - T_lo)
+    By the mirror symmetry (kappa, w) -> (2 - kappa, 2H - w) the branch of a shallow cap
+    passes through the flat state (w = H, kappa = 1), where dkappa/dw is even in w - H: the
+    first fold pair is born there when dkappa/dw at the flat state changes sign (a cusp).
+    ``T`` is that root; ``error_estimate`` its change with 8 more Chebyshev nodes plus the
+    root tolerance; ``bracket`` the T interval scanned; ``kappa_s`` is 1 at onset.
+    """
+
+    T: float
+    error_estimate: float
+    bracket: tuple
+    h: float
+    lam: float
+    model: str
+    material: str
+
+
+def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=None):
+    """dkappa/dw (1/R0^2) at the flat state w = H of the branch from kappa = 0 (positive:
+    no fold there; negative: between a fold pair)."""
+    sc = scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
+    H = 1.0 - math.cos(sc.theta)
+    return shellbvp.at_monitor(sc, H, nodes=nodes).dp_dw
+
+
+def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_step=0.25,
+          T_max=6.0, tol=1e-6) -> Onset:
+    """The onset of snapping: scan T upwards from T_lo in steps of T_step until the slope at
+    the flat state (:func:`flat_slope`) turns negative, then solve slope = 0 by Brent's
+    method to ``tol`` in T. Raises ValueError if the slope is already negative at T_lo or
+    stays positive up to T_max."""
+    from scipy.optimize import brentq
+
+    _checks_positive = (("T_lo", T_lo), ("T_step", T_step), ("T_max", T_max), ("tol", tol))
+    for name, v in _checks_positive:
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be a positive number, got {v!r}")
+
+    def slope(T, nodes=None):
+        return flat_slope(T, h, lam, model=model, material=material, nu=nu, nodes=nodes)
+
+    a, ga = T_lo, slope(T_lo)
+    if ga <= 0:
+        raise ValueError(f"onset: the cap already snaps at T_lo = {T_lo} (slope {ga:.3g}); "
+                         f"lower T_lo")
+    while True:
+        b = a + T_step
+        if b > T_max:
+            raise ValueError(f"onset: no snap up to T_max = {T_max}")
+        gb = slope(b)
+        if gb < 0:
+            break
+        a, ga = b, gb
+    T1 = brentq(slope, a, b, xtol=tol)
+    nodes = shellbvp.default_nodes(scene(T1 * math.sqrt(h), h, lam, model=model,
+                                         material=material, nu=nu))
+    T2 = brentq(lambda T: slope(T, nodes + 8), a, b, xtol=tol)
+    return Onset(T=T2, error_estimate=abs(T2 - T1) + tol, bracket=(a, b), h=h, lam=lam,
+                 model=model, material=material)

@@ -23,7 +23,8 @@ from .continuation import ContinuationOptions, continuation
 from .equilibrium import _energy, _Problem, reference_state
 from .scene import Scene
 
-__all__ = ["Branch", "FoldPoint", "follow", "BRANCH_BACKENDS", "default_nodes"]
+__all__ = ["Branch", "FoldPoint", "follow", "BRANCH_BACKENDS", "default_nodes", "MonitorPoint",
+           "at_monitor"]
 
 
 @dataclass(frozen=True)
@@ -207,3 +208,50 @@ def _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop, options, eps, 
                   stats=dict(backend=backend, points=len(pts), nodes=nodes,
                              evaluations=getattr(cont, "evaluations", None),
                              wall_time=time.perf_counter() - t0))
+
+
+@dataclass(frozen=True)
+class MonitorPoint:
+    """The state of a branch where its observable takes a prescribed value.
+
+    ``p``: the parameter there; ``w``: the prescribed observable (R0); ``dp_dw``: the slope
+    of the branch dp/dw there (exact, from the bordered Jacobian; 1/R0^2 for kappa),
+    negative between a fold pair; ``nodes``: Chebyshev degree used.
+    """
+
+    p: float
+    w: float
+    dp_dw: float
+    nodes: int
+
+
+def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, nodes: int | None = None,
+               eps: float | None = None) -> MonitorPoint:
+    """Follow the branch from the undeformed state at p0 until w (in R0) is first reached,
+    and solve there with w prescribed and the parameter unknown (spectral back-end).
+
+    Raises ValueError for a non-finite w and ConvergenceError if the branch does not reach w.
+    """
+    from .discrete import _direction, follow_discrete, newton
+    from .spectral import SpectralSystem
+
+    if not math.isfinite(w):
+        raise ValueError(f"w must be finite, got {w!r}")
+    nodes = default_nodes(scene) if nodes is None else int(nodes)
+    system = SpectralSystem(scene, nodes, eps)
+    H = 1.0 - math.cos(scene.theta)
+    target = w / H
+    pts, _ = follow_discrete(system, system.from_profile(reference_state), p0, ds=0.5,
+                             ds_max=100.0, monitor_stop=(-math.inf, target))
+    if pts[-1].monitor < target:
+        raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
+                               f"{pts[-1].monitor * H:.6g})")
+    a, b = pts[-2], pts[-1]
+    q = a if abs(a.monitor - target) < abs(b.monitor - target) else b
+    dUdm, dpdm = q.dU / q.tangent[0], q.tangent[1] / q.tangent[0]
+    res = newton(system, q.U + (target - q.monitor) * dUdm, q.p + (target - q.monitor) * dpdm,
+                 1.0, 0.0, target)
+    if not res.ok:
+        raise ConvergenceError(f"no solution with w = {w:g} prescribed: {res.history}")
+    _, _, slope = _direction(res)
+    return MonitorPoint(p=res.p, w=w, dp_dw=slope / H, nodes=nodes)

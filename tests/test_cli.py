@@ -41,8 +41,31 @@ def test_branch_command_writes_csv(tmp_path, capsys):
     assert "points" in capsys.readouterr().out
 
 
-@pytest.mark.slow
 def test_snap_command_prints_kappa_s(capsys):
+    from problems import cap_eversion as ce
+
     assert cli.main(["snap", "--theta", "0.25", "--h", "0.01"]) == 0
     out = capsys.readouterr().out
-    assert "kappa_s R0 =" in out and "w_s / R0" in out
+    r = ce.snap_curvature(0.25, 0.01)
+    assert f"kappa_s R0 = {r.kappa_s:.10f}" in out and "w_s / R0" in out
+
+
+def test_sweep_command_csv_round_trip(tmp_path, capsys):
+    from problems import cap_eversion as ce
+
+    out = tmp_path / "s.csv"
+    assert cli.main(["sweep", "--T", "1.5:2.5:1", "--h", "0.01", "--csv", str(out)]) == 0
+    rows = [line.split(",") for line in out.read_text().splitlines()]
+    assert rows[0] == ["T", "theta_rad", "kappa_s_R0", "w_s_over_R0", "kappa_s_error", "snaps"]
+    (T1, *r1), (T2, *r2) = rows[1:]
+    assert float(T1) == 1.5 and r1[-1] == "0" and r1[1] == "nan"     # below the onset
+    assert float(T2) == 2.5 and r2[-1] == "1"
+    assert float(r2[1]) == ce.snap_curvature(0.25, 0.01).kappa_s       # exact round trip
+    assert "2 caps, 1 snap" in capsys.readouterr().out
+
+
+def test_bad_tol_exits_2(capsys):
+    with pytest.raises(SystemExit) as e:
+        cli.main(["snap", "--tol", "0"])
+    assert e.value.code == 2
+    assert "--tol must lie in (0, 1)" in capsys.readouterr().err

@@ -1,4 +1,5 @@
-"""Snap curvature of caps (long: continuation from kappa = 0; run with `pytest -m slow`)."""
+"""Snap curvature of caps: onset of snapping, and kappa_s by the collocation back-end
+(long: scipy's solve_bvp continuation takes minutes; run with `pytest -m slow`)."""
 
 import math
 
@@ -7,22 +8,51 @@ import pytest
 from shellbvp import ContinuationOptions
 from problems import cap_eversion as ce
 
+H0 = 0.01
+
+
+@pytest.fixture(scope="module")
+def onset():
+    return ce.onset(H0, 1.0)
+
+
+def test_onset_is_a_cusp_at_the_flat_state(onset):
+    """At the onset T_c the slope dkappa/dw at the flat state vanishes (root to 1e-6 in T,
+    N and N + 8 agree); just below it is positive, just above negative."""
+    assert onset.error_estimate < 1e-5
+    assert onset.bracket[0] < onset.T < onset.bracket[1]
+    assert ce.flat_slope(onset.T - 0.01, H0) > 0 > ce.flat_slope(onset.T + 0.01, H0)
+
+
+def test_snap_above_the_onset_none_below(onset):
+    above = ce.snap_curvature((onset.T + 0.02) * math.sqrt(H0), H0)
+    below = ce.snap_curvature((onset.T - 0.02) * math.sqrt(H0), H0)
+    assert above.snaps and not below.snaps
+    # Born at the flat state (kappa = 1, w = H): just above the onset the fold is close to it.
+    H = 1 - math.cos(above.theta)
+    assert 1.0 < above.kappa_s < 1.05
+    assert 0.7 < above.w_s / H < 1.0
+    assert math.isnan(below.kappa_s)
+
+
+def test_a_deep_cap_snaps_well_above_the_onset(onset):
+    r = ce.snap_curvature(math.pi / 6, H0)
+    assert r.T > onset.T and r.snaps and r.kappa_s > 2.0
+
 
 @pytest.mark.slow
-def test_kappa_s_is_stable_under_fold_tolerance_refinement():
-    """kappa_s refined at fold tolerances 1e-6 and 1e-8 agrees within the error estimate of
-    the coarse one plus 1e-9 (mesh refinement of the extended system is the estimate)."""
-    coarse = ce.snap_curvature(math.pi / 6, 0.01, 1.0, tol=1e-6)
-    fine = ce.snap_curvature(math.pi / 6, 0.01, 1.0, tol=1e-8)
-    assert coarse.snaps and fine.snaps
-    assert abs(coarse.kappa_s - fine.kappa_s) <= coarse.error_estimate + 1e-9
-    assert fine.error_estimate <= 1e-8
-    # the fold lies before full eversion, on the way from the cap to the flat state and beyond
-    assert 0 < fine.w_s < 2 * (1 - math.cos(math.pi / 6))
+def test_collocation_kappa_s_agrees_with_spectral():
+    """Third route: scipy's solve_bvp continuation with the Moore-Spence extended system."""
+    coll = ce.snap_curvature(math.pi / 6, H0, 1.0, backend="collocation", tol=1e-8)
+    spec = ce.snap_curvature(math.pi / 6, H0, 1.0, tol=1e-10)
+    assert coll.snaps and coll.error_estimate <= 1e-8
+    assert abs(coll.kappa_s - spec.kappa_s) <= coll.error_estimate + 1e-9
+    assert 0 < coll.w_s < 2 * (1 - math.cos(math.pi / 6))
 
 
 @pytest.mark.slow
-def test_branch_fold_is_a_maximum_of_kappa():
-    br = ce.branch(math.pi / 6, 0.01, 1.0, options=ContinuationOptions(ds=0.1, ds_max=0.5))
+def test_collocation_branch_fold_is_a_maximum_of_kappa():
+    br = ce.branch(math.pi / 6, H0, 1.0, backend="collocation",
+                   options=ContinuationOptions(ds=0.1, ds_max=0.5))
     (fold,) = br.folds
     assert fold.p >= br.p.max() - 1e-12

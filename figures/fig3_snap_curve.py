@@ -1,0 +1,77 @@
+"""Fig. 3 of Taffetani & Pezzulla: snap curvature kappa_s R0 against the shallowness
+T = Theta sqrt(R0/h0), relaxed model (rho1, rho2 minimising the energy), lam in
+{0.01, 0.1, 1, 10}, h0/R0 = 0.01, with the morphoelastic Koiter shell (nu = 1/2) as the solid
+line. T runs from below the onset of snapping (computed for every curve, vertical ticks) to
+10. Writes fig3_snap_curve.png, fig3_snap_curve.csv (every kappa_s with its error estimate)
+and fig3_onset.csv.
+
+    python figures/fig3_snap_curve.py [--quick] [--h 0.01]
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from tqdm import tqdm
+
+from _common import parser, save_png, write_csv
+from problems import cap_eversion as ce
+
+LAMS = (0.01, 0.1, 1.0, 10.0)
+
+
+def main(argv=None):
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--h", type=float, default=0.01, help="h0/R0 (default 0.01)")
+    a = p.parse_args(argv)
+    curves = [("koiter", 1.0)] + [("cg", lam) for lam in ((0.1, 10.0) if a.quick else LAMS)]
+    T_values = np.array([3.0, 5.0, 7.0, 9.0]) if a.quick else np.arange(1.5, 10.001, 0.25)
+    rows, onsets = [], []
+    for material, lam in tqdm(curves, desc="fig3 curves"):
+        if not a.quick:
+            o = ce.onset(a.h, lam, material=material)
+            onsets.append([material, lam, o.T, o.error_estimate])
+        for T in tqdm(T_values, desc=f"{material} lam = {lam:g}", leave=False):
+            r = ce.snap_curvature(T * np.sqrt(a.h), a.h, lam, material=material)
+            rows.append([material, lam, T, r.theta, r.kappa_s, r.w_s, r.error_estimate,
+                         int(r.snaps)])
+    write_csv(a.out / "fig3_snap_curve.csv",
+              ["material", "lam", "T", "theta_rad", "kappa_s_R0", "w_s_over_R0",
+               "kappa_s_error", "snaps"], rows)
+    if onsets:
+        write_csv(a.out / "fig3_onset.csv", ["material", "lam", "T_onset", "T_onset_error"],
+                  onsets)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for k, (material, lam) in enumerate(curves):
+        sel = [r for r in rows if r[0] == material and r[1] == lam]
+        T = np.array([r[2] for r in sel])
+        ks = np.array([r[4] for r in sel])
+        if material == "koiter":
+            ax.plot(T, ks, "-", color="k", lw=1.5, label="Koiter, nu = 1/2")
+        else:
+            ax.plot(T, ks, "o-", color=f"C{k}", ms=3, lw=1, label=f"relaxed CG, lam = {lam:g}")
+        for o in onsets:
+            if o[0] == material and o[1] == lam:
+                ax.axvline(o[2], color="k" if material == "koiter" else f"C{k}", lw=0.6,
+                           ls=":")
+    ax.set_xlabel(r"$\Theta \sqrt{R_0 / h_0}$")
+    ax.set_ylabel(r"$\kappa_s R_0$")
+    ax.set_title(f"snap curvature, h0/R0 = {a.h:g} (dotted: computed onset)", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_png(fig, a.out / "fig3_snap_curve.png")
+    for o in onsets:
+        print(f"onset {o[0]:>6s} lam = {o[1]:<5g}: T = {o[2]:.6f} +- {o[3]:.1e}")
+    errs = [r[6] for r in rows if r[7]]
+    print(f"{len(rows)} caps, {sum(r[7] for r in rows)} snap; largest kappa_s error estimate "
+          f"{max(errs):.1e}")
+    print(f"wrote {a.out / 'fig3_snap_curve.png'} and .csv")
+
+
+if __name__ == "__main__":
+    main()
