@@ -99,7 +99,8 @@ def main(argv=None):
         if not a.no_cold and not a.quick:
             with tempfile.TemporaryDirectory() as d:
                 cold = first_call(backend, d)
-        times, r = steady(backend, 1 if backend == "collocation" else repeats)
+        times, r = steady(backend, {"collocation": 1, "shooting": min(repeats, 3)}.get(
+            backend, repeats))
         err = abs(r.kappa_s - ref.kappa_s)
         summary.append((backend, np.median(times), times.min(), times.max(), len(times),
                         warm["first_call_s"], cold["first_call_s"] if cold else math.nan,

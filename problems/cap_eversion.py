@@ -66,7 +66,7 @@ def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_m
     kmax = math.inf if kappa_max is None else float(kappa_max)
     if options is None:
         options = ContinuationOptions(ds=0.1, ds_max=0.5, fold_tol=tol) if \
-            backend == "collocation" else ContinuationOptions(ds=0.5, ds_max=100.0, fold_tol=tol)
+            backend == "collocation" else ContinuationOptions(ds=2.0, ds_max=100.0, fold_tol=tol)
     return shellbvp.follow(sc, backend=backend, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
                            progress=progress, energies=energies, nodes=nodes)

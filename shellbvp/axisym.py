@@ -104,8 +104,12 @@ def point_functions(model, material, rhob1, metric):
         H, g = jet_W(X, F[2], F[3], lam, h)
         return X, g, H
 
-    def algebraic(y, s, F, lam, h):
+    def algebraic(y, s, F, lam, h, q_init=None):
+        # Start from the pole-like guess (lam2, k2), or from q_init where it is finite (a warm
+        # start from the previous Newton iterate of an outer solver).
         q0 = jnp.array([y[0] / (F[1] * jnp.sin(s)), -jnp.sin(y[2]) / y[0]])
+        if q_init is not None:
+            q0 = jnp.where(jnp.isfinite(q_init) & (q_init[0] > 0), q_init, q0)
 
         def body(c):
             q, it, _ = c
@@ -145,10 +149,10 @@ def point_functions(model, material, rhob1, metric):
         a = args(y, q, s, F, g, zero44, h)
         return _arr(el["f"](*a)), _arr(el["G"](*a))
 
-    def rhs_jac_p(y, s, F, dF, lam, h):
+    def rhs_jac_p(y, s, F, dF, lam, h, q_init=None):
         """f, df/dy and the derivative of f along a change dF of the fields (a parameter
         derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
-        q, _, ok = algebraic(y, s, F, lam, h)
+        q, _, ok = algebraic(y, s, F, lam, h, q_init)
         X, g, H = jet(y, q, s, F, lam, h)
         a = args(y, q, s, F, g, H, h)
         f = _arr(el["f"](*a))
@@ -156,7 +160,8 @@ def point_functions(model, material, rhob1, metric):
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
         _, (df, dG) = jax.jvp(lambda F_: f_and_G(y, q, s, F_, lam, h), (F,), (dF,))
         J = fy - fq @ jnp.linalg.solve(Gq, Gy)
-        return f, J, df - fq @ jnp.linalg.solve(Gq, dG), ok
+        fp = df - fq @ jnp.linalg.solve(Gq, dG)
+        return (f, J, fp, ok) if q_init is None else (f, J, fp, ok, q)
 
     return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac, "rhs_jac_p": rhs_jac_p}
 

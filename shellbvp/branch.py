@@ -110,7 +110,7 @@ def follow(scene: Scene, *, backend: str = "spectral", p0: float = 0.0,
         return _follow_collocation(scene, p0, p_stop, n_folds, w_stop,
                                    options or ContinuationOptions(), eps, progress, energies)
     return _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop,
-                            options or ContinuationOptions(ds=0.5, ds_max=100.0), eps,
+                            options or ContinuationOptions(ds=2.0, ds_max=100.0), eps,
                             progress, energies, nodes, shooting_segments)
 
 

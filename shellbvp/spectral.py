@@ -92,7 +92,7 @@ def _kernel(model, material, rhob1, metric, fields, P, N):
     from .axisym import point_functions
 
     pf = point_functions(model, material, rhob1, metric)
-    rjp = jax.vmap(pf["rhs_jac_p"], in_axes=(1, 0, 1, 1, None, None))
+    rjp = jax.vmap(pf["rhs_jac_p"], in_axes=(1, 0, 1, 1, None, None, 0))
 
     def fields_all(s, p):
         return jnp.stack([jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s[i]
@@ -103,14 +103,14 @@ def _kernel(model, material, rhob1, metric, fields, P, N):
         third = jnp.where(held, y0[1] + y0[0] * y0[2] / 2, y0[5])
         return jnp.stack([X[0] - X[1], X[2] - X[3], third])
 
-    def kernel(s, Y, p, eps, lam, h, held):
+    def kernel(s, Y, p, eps, lam, h, held, q_init):
         F, dF = jax.jvp(lambda p_: fields_all(s, p_), (p,), (jnp.ones_like(p),))  # (P, 4, N1)
-        out = [rjp(Y[i], s[i], F[i], dF[i], lam, h) for i in range(P)]
-        f, J, fp, ok = (jnp.stack([o[k] for o in out]) for k in range(4))
+        out = [rjp(Y[i], s[i], F[i], dF[i], lam, h, q_init[i]) for i in range(P)]
+        f, J, fp, ok, q = (jnp.stack([o[k] for o in out]) for k in range(5))
         F0 = F[0, :, 0]
         r0 = pole(Y[0, :, 0], F0, eps, lam, h, held)
         Jy, JF = jax.jacfwd(pole, argnums=(0, 1))(Y[0, :, 0], F0, eps, lam, h, held)
-        return F, f, J, fp, ok, r0, Jy, JF @ dF[0, :, 0]
+        return F, f, J, fp, ok, r0, Jy, JF @ dF[0, :, 0], q
 
     return jax.jit(kernel)
 
@@ -145,6 +145,7 @@ class SpectralSystem:
         self._Pm = Pm
         self._kernel = _kernel(scene.model, scene.material, float(scene.rhob1),
                                bool(scene.metric), scene.fields, self.P, self.N)
+        self._q = np.full((self.P, self.N + 1, 2), np.nan)
         self.evaluations = 0
 
     # --- unknowns ----------------------------------------------------------------------------
@@ -189,9 +190,15 @@ class SpectralSystem:
             return (i * 6 + c) * N1
 
         sc = self.scene
-        out = self._kernel(self.s, Y, float(p), self.eps, sc.material_parameter, sc.h,
-                           sc.apex == "held")
-        F, f, Jn, fp, ok, r0, Jy, Jp = (np.asarray(a) for a in out)
+        args = (self.s, Y, float(p), self.eps, sc.material_parameter, sc.h, sc.apex == "held")
+        out = [np.asarray(a) for a in self._kernel(*args, self._q)]
+        if not np.all(out[4]) and np.all(np.isfinite(self._q)):  # retry without warm start
+            out = [np.asarray(a) for a in self._kernel(*args, np.full_like(self._q, np.nan))]
+        F, f, Jn, fp, ok, r0, Jy, Jp, q = out
+        if np.all(ok):
+            # Warm start of the inner (lam1, k1) Newton at the next evaluation: a cache that
+            # changes cost only (the inner Newton converges to 1e-13 from either start).
+            self._q = q
         self.evaluations += 1
         for i in range(P):
             sc.check_fields(F[i], i, p)
