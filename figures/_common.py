@@ -35,3 +35,20 @@ def save_png(fig, path: Path) -> None:
     os.close(fd)
     fig.savefig(tmp, dpi=150, bbox_inches="tight")
     os.replace(tmp, path)
+
+
+def pyplot():
+    """matplotlib.pyplot on the non-interactive Agg back-end (scripts write files only)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def finish(fig, out: Path, stem: str) -> None:
+    """Lay out, write ``out/stem.png`` atomically and say which files were written."""
+    fig.tight_layout()
+    save_png(fig, out / f"{stem}.png")
+    print(f"wrote {out / (stem + '.png')} and .csv")

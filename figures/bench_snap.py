@@ -40,7 +40,7 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from _common import HERE, parser, save_png, write_csv  # noqa: E402
+from _common import HERE, finish, parser, pyplot, write_csv  # noqa: E402
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 
@@ -134,11 +134,7 @@ def main(argv=None):
                "first_call_cold_s", "kappa_s_R0", "error_estimate", "error_vs_reference"],
               summary)
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(5.5, 4))
     t = np.array([r[1] for r in rows])
     ax.loglog(t, [max(r[6], 1e-16) for r in rows], "o-", label="error vs reference")
@@ -151,9 +147,7 @@ def main(argv=None):
     ax.set_ylabel("|kappa_s R0 error|")
     ax.set_title("spectral back-end, Theta = pi/6, h0/R0 = 0.01, lam = 1", fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    save_png(fig, a.out / "bench_snap.png")
-    print(f"wrote {a.out / 'bench_snap.png'} and .csv")
+    finish(fig, a.out, "bench_snap")
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ import math
 
 from tqdm import tqdm
 
-from _common import parser, save_png, write_csv
+from _common import finish, parser, pyplot, write_csv
 from problems import cap_eversion as ce
 import shellbvp
 
@@ -44,11 +44,7 @@ def main(argv=None):
               ["model", "lam", "kappa_R0", "w_over_R0", "energy", "stretching_energy",
                "bending_energy", "arclength", "is_fold", "kappa_over_kappa_s_koiter"], rows)
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
     for ax, model, title in zip(axes, ("plane_strain", "relaxed"),
                                 ("(a) plane strain", "(b) relaxed rho1, rho2")):
@@ -65,13 +61,11 @@ def main(argv=None):
         ax.legend(fontsize=8)
     axes[0].set_ylabel(r"$\kappa / \kappa_s^{\rm Koiter}$"
                        f"  (kappa_s Koiter R0 = {koiter.kappa_s:.4f})")
-    fig.tight_layout()
-    save_png(fig, a.out / "fig2_cap_branches.png")
+    finish(fig, a.out, "fig2_cap_branches")
     for f in folds:
         print(f"{f[0]:>12s} lam = {f[1]:<5g} kappa_s R0 = {f[2]:.10f} +- {f[4]:.1e}  "
               f"w_s/R0 = {f[3]:.6f}  kappa_s/kappa_s(Koiter) = {f[2] / koiter.kappa_s:.4f}")
     print(f"Koiter (nu = 1/2): kappa_s R0 = {koiter.kappa_s:.10f} +- {koiter.error_estimate:.1e}")
-    print(f"wrote {a.out / 'fig2_cap_branches.png'} and .csv")
 
 
 if __name__ == "__main__":

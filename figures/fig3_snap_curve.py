@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from tqdm import tqdm
 
-from _common import parser, save_png, write_csv
+from _common import finish, parser, pyplot, write_csv
 from problems import cap_eversion as ce
 
 LAMS = (0.01, 0.1, 1.0, 10.0)
@@ -41,11 +41,7 @@ def main(argv=None):
         write_csv(a.out / "fig3_onset.csv", ["material", "lam", "T_onset", "T_onset_error"],
                   onsets)
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for k, (material, lam) in enumerate(curves):
         sel = [r for r in rows if r[0] == material and r[1] == lam]
@@ -63,14 +59,12 @@ def main(argv=None):
     ax.set_ylabel(r"$\kappa_s R_0$")
     ax.set_title(f"snap curvature, h0/R0 = {a.h:g} (dotted: computed onset)", fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    save_png(fig, a.out / "fig3_snap_curve.png")
+    finish(fig, a.out, "fig3_snap_curve")
     for o in onsets:
         print(f"onset {o[0]:>6s} lam = {o[1]:<5g}: T = {o[2]:.6f} +- {o[3]:.1e}")
     errs = [r[6] for r in rows if r[7]]
     print(f"{len(rows)} caps, {sum(r[7] for r in rows)} snap; largest kappa_s error estimate "
           f"{max(errs):.1e}")
-    print(f"wrote {a.out / 'fig3_snap_curve.png'} and .csv")
 
 
 if __name__ == "__main__":

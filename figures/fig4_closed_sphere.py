@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from tqdm import tqdm
 
-from _common import parser, save_png, write_csv
+from _common import finish, parser, pyplot, write_csv
 from problems import closed_sphere as cs
 
 
@@ -33,11 +33,7 @@ def main(argv=None):
               ["kappa_R0", "lam", "model", "w_over_R0", "w_series_over_R0", "w_error_estimate"],
               rows)
 
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, model, title in zip(axes, ("plane_strain", "relaxed"),
                                 ("(a) plane strain: rho1 = 1, rho2 = 0", "(b) relaxed: rho1, rho2 minimising w_s, w_b")):
@@ -52,9 +48,7 @@ def main(argv=None):
         ax.set_ylabel(r"$w_R / R_0$")
         ax.set_title(f"{title}, h0/R0 = {a.h:g}", fontsize=9)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    save_png(fig, a.out / "fig4_closed_sphere.png")
-    print(f"wrote {a.out / 'fig4_closed_sphere.png'} and .csv")
+    finish(fig, a.out, "fig4_closed_sphere")
 
 
 if __name__ == "__main__":

@@ -66,7 +66,7 @@ def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_m
     kmax = math.inf if kappa_max is None else float(kappa_max)
     if options is None:
         options = ContinuationOptions(ds=0.1, ds_max=0.5, fold_tol=tol) if \
-            backend == "collocation" else ContinuationOptions(ds=2.0, ds_max=100.0, fold_tol=tol)
+            backend == "collocation" else ContinuationOptions(ds=0.5, ds_max=2.0, fold_tol=tol)
     return shellbvp.follow(sc, backend=backend, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
                            progress=progress, energies=energies, nodes=nodes)
@@ -104,6 +104,8 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     estimate comes from refinement: 8 more Chebyshev nodes per step until kappa_s changes by
     at most tol (spectral), 1/10 of the ODE tolerance (shooting), mesh halving
     (collocation))."""
+    if options is None and backend != "collocation":   # long steps: only the fold matters
+        options = ContinuationOptions(ds=5.0, ds_max=100.0, fold_tol=tol)
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
                backend=backend, tol=tol, options=options, energies=False, nodes=nodes)
     T = theta / math.sqrt(h)

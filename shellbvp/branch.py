@@ -110,7 +110,7 @@ def follow(scene: Scene, *, backend: str = "spectral", p0: float = 0.0,
         return _follow_collocation(scene, p0, p_stop, n_folds, w_stop,
                                    options or ContinuationOptions(), eps, progress, energies)
     return _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop,
-                            options or ContinuationOptions(ds=2.0, ds_max=100.0), eps,
+                            options or ContinuationOptions(ds=5.0, ds_max=100.0), eps,
                             progress, energies, nodes, shooting_segments)
 
 
@@ -172,11 +172,12 @@ def _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop, options, eps, 
         cont, U0, p0, ds=options.ds, ds_min=options.ds_min, ds_max=options.ds_max,
         max_steps=options.max_steps, p_stop=p_stop,
         monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds,
-        progress=progress)
+        progress=progress, tol=1e-7)   # Newton step 1e-7: the points are good to ~1e-14
     folds = []
     for i, j in brackets:
         system = cont
-        coarse = locate_fold(system, pts[i], pts[j])
+        # The coarse fold only seeds the refinement: w to 1e-7 gives kappa to O(1e-14).
+        coarse = locate_fold(system, pts[i], pts[j], monitor_tol=1e-7)
         stats = dict(coarse.stats)
         for k in range(1, 64):
             fine_sys = _system(scene, backend, eps, nodes, shooting_segments, refine=k)
