@@ -185,21 +185,20 @@ def _follow_discrete(scene, backend, p0, p_stop, n_folds, w_stop, options, eps, 
                 raise ConvergenceError(
                     f"fold near {scene.parameter} = {coarse.p:.10g}: no convergence to "
                     f"fold_tol = {options.fold_tol:g} up to {MAX_NODES} nodes (last change "
-                    f"{stats['error_estimate']:.2e})")
+                    f"{stats.get('error_estimate', math.nan):.2e})")
             Uf = system.resample(coarse.U, fine_sys.N) if backend == "spectral" else coarse.U
             fine = polish_fold(fine_sys, Uf, coarse.p, coarse.monitor)
-            err = abs(fine.p - coarse.p)
+            err = float(abs(fine.p - coarse.p))
             stats = dict(stats, error_estimate=err, refinements=k,
                          resolution=getattr(fine_sys, "N", None))
             if err <= options.fold_tol or backend != "spectral":
                 break
             system, coarse = fine_sys, fine
-        folds.append(FoldPoint(p=fine.p, w=fine.monitor * H, error_estimate=err, index=i,
-                               stats=stats))
+        folds.append(FoldPoint(p=float(fine.p), w=float(fine.monitor * H), error_estimate=err,
+                               index=i, stats=stats))
     if energies:
-        from .equilibrium import _Problem as Prob
-
-        E = np.array([_energy(Prob(scene, pt.p, eps), cont.dense(pt.U, pt.p), pt.p) for pt in pts])
+        E = np.array([_energy(_Problem(scene, pt.p, eps), cont.dense(pt.U, pt.p), pt.p)
+                      for pt in pts])
     else:
         E = _nan_energies(len(pts))
     return Branch(scene=scene, p=np.array([pt.p for pt in pts]),

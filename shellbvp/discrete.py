@@ -190,7 +190,8 @@ def follow_discrete(system, U0, p0, *, ds=0.1, ds_min=1e-5, ds_max=0.5, max_step
     failures = 0
     while len(pts) < max_steps:
         b = pts[-1]
-        if not (p_stop[0] <= b.p <= p_stop[1]) or not (monitor_stop[0] <= b.monitor <= monitor_stop[1]):
+        inside = p_stop[0] <= b.p <= p_stop[1] and monitor_stop[0] <= b.monitor <= monitor_stop[1]
+        if not inside:
             break
         if n_folds is not None and len(brackets) >= n_folds:
             break

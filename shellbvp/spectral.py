@@ -79,9 +79,8 @@ def coefficients(values: np.ndarray) -> np.ndarray:
 
 
 def _evaluate(coef: np.ndarray, t: np.ndarray) -> np.ndarray:
-    return np.polynomial.chebyshev.chebval(1.0 - 2.0 * np.asarray(t, dtype=float), coef.T).T \
-        if coef.ndim == 1 else np.stack([np.polynomial.chebyshev.chebval(1.0 - 2.0 * t, c)
-                                         for c in coef])
+    """The interpolant with coefficients ``coef`` (..., N + 1) at t: shape (..., len(t))."""
+    return np.polynomial.chebyshev.chebval(1.0 - 2.0 * np.asarray(t, dtype=float), coef.T)
 
 
 @lru_cache(maxsize=16)
@@ -255,11 +254,3 @@ class SpectralSystem:
         g[0, 0, 0] -= th / 2 / H
         g[0, 2, 0] -= r / 2 / H
         return m, g.ravel()
-
-
-def check_resolution(system: SpectralSystem, U, tol: float) -> None:
-    """Raise ConvergenceError when the Chebyshev tail exceeds tol (under-resolved)."""
-    tail = system.tail(U)
-    if tail > tol:
-        raise ConvergenceError(f"spectral: the solution is under-resolved with N = {system.N} "
-                               f"(Chebyshev tail {tail:.1e} > {tol:.1e}); use more nodes")
