@@ -283,13 +283,13 @@ def locate_fold(system, a: DiscretePoint, b: DiscretePoint, *, tol=1e-10,
                                    wall_time=time.perf_counter() - t0))
 
 
-def polish_fold(system, U, p, monitor, *, step=1e-5, tol=1e-10, monitor_tol=1e-10,
-                maxiter=12) -> DiscreteFold:
+def polish_fold(system, U, p, monitor, *, step=1e-5, window=0.05, tol=1e-10,
+                monitor_tol=1e-10, maxiter=12) -> DiscreteFold:
     """Re-locate a fold known approximately (e.g. from a coarser discretisation): secant
     iteration on dp/dm = 0 from ``monitor`` and ``monitor + step``.
 
     Raises ConvergenceError if the secant iteration does not converge or leaves
-    [monitor - 100 step, monitor + 100 step].
+    [monitor - window, monitor + window].
     """
     t0 = time.perf_counter()
     res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol)
@@ -306,9 +306,10 @@ def polish_fold(system, U, p, monitor, *, step=1e-5, tol=1e-10, monitor_tol=1e-1
         if g1 == g0:
             break
         m2 = m1 - g1 * (m1 - m0) / (g1 - g0)
-        if abs(m2 - monitor) > 100 * step:
+        if abs(m2 - monitor) > window:
             raise ConvergenceError(f"fold polishing left its window: monitor {m2:.10g} from "
-                                   f"{monitor:.10g} (step {step:g}); the estimate is too far")
+                                   f"{monitor:.10g} (window {window:g}); the estimate is too "
+                                   f"far (use a finer starting discretisation)")
         m0, g0, m1 = m1, g1, m2
         g1 = slope(m1)
         if abs(m1 - m0) <= monitor_tol:
@@ -317,8 +318,7 @@ def polish_fold(system, U, p, monitor, *, step=1e-5, tol=1e-10, monitor_tol=1e-1
         raise ConvergenceError(f"fold polishing: no convergence in {maxiter} secant steps "
                                f"(last monitor change {abs(m1 - m0):.2e})")
     p, U = slope.state(m1)
-    return DiscreteFold(p=p, monitor=m1, U=U, bracket=(monitor - 100 * step,
-                                                        monitor + 100 * step),
+    return DiscreteFold(p=p, monitor=m1, U=U, bracket=(monitor - window, monitor + window),
                         stats=dict(solves=slope.solves + 1,
                                    newton_iterations=slope.iterations + res.iterations,
                                    wall_time=time.perf_counter() - t0))
