@@ -170,20 +170,8 @@ def point_functions(model, material, rhob1, metric):
 def _batched(model, material, rhob1, metric):
     pf = point_functions(model, material, rhob1, metric)
     ax = (1, 0, 1, None, None)
-    out = {k: jax.jit(jax.vmap(v, in_axes=ax)) for k, v in pf.items() if k != "rhs_jac_p"}
-    out["rhs_jac_p"] = jax.jit(jax.vmap(pf["rhs_jac_p"], in_axes=(1, 0, 1, 1, None, None)))
-    return out
-
-
-@lru_cache(maxsize=64)
-def _fields_tangent(fields, piece):
-    """Compiled (s, p) -> (F, dF/dp) for one piece of a scene's fields (forward-mode AD)."""
-    def fp(s, p):
-        return jax.jvp(lambda p_: jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                                              for v in fields(piece, s, p_)]),
-                       (p,), (jnp.ones_like(p),))
-
-    return jax.jit(fp)
+    # rhs_jac_p is batched by the spectral back-end's own kernel (shellbvp.spectral).
+    return {k: jax.jit(jax.vmap(v, in_axes=ax)) for k, v in pf.items() if k != "rhs_jac_p"}
 
 
 class AxisymmetricSystem:
@@ -207,10 +195,6 @@ class AxisymmetricSystem:
         s = np.atleast_1d(np.asarray(s, dtype=float))
         y = np.asarray(y, dtype=float).reshape(6, -1)
         F = np.stack(self.fields(piece, s, p))
-        extra = ()
-        if name == "rhs_jac_p":
-            _, dF = _fields_tangent(self.scene.fields, piece)(s, float(self.p if p is None else p))
-            extra = (np.asarray(dF),)
         n = s.size
         size = next((c for c in CHUNKS if n <= c), CHUNKS[-1])
         outs = []
@@ -221,8 +205,7 @@ class AxisymmetricSystem:
             sp_ = np.pad(s[sl], (0, pad), mode="edge")
             yp = np.pad(y[:, sl], ((0, 0), (0, pad)), mode="edge")
             Fp = np.pad(F[:, sl], ((0, 0), (0, pad)), mode="edge")
-            ex = [np.pad(e[:, sl], ((0, 0), (0, pad)), mode="edge") for e in extra]
-            res = self.fns[name](yp, sp_, Fp, *ex, self.scene.material_parameter,
+            res = self.fns[name](yp, sp_, Fp, self.scene.material_parameter,
                                   self.scene.h)
             outs.append([np.asarray(r)[: stop - start] for r in res])
         self.calls += 1
@@ -245,11 +228,6 @@ class AxisymmetricSystem:
         """f (6, n) and df/dy (6, 6, n)."""
         f, J = self._call("rhs_jac", piece, s, y, p)
         return f.T, np.moveaxis(J, 0, -1)
-
-    def rhs_jac_p(self, piece, s, y, p=None):
-        """f (6, n), df/dy (6, 6, n) and df/dp (6, n), p the scene's parameter."""
-        f, J, fp = self._call("rhs_jac_p", piece, s, y, p)
-        return f.T, np.moveaxis(J, 0, -1), fp.T
 
     def state(self, piece, s, y, p=None):
         """Principal state X = (lam1, lam2, k1, k2) (4, n) and the fields at s."""

@@ -145,6 +145,14 @@ class _Problem:
         rel = Yb[6 * (self.P - 1) + 1] - z_apex - (math.cos(T) - 1.0)
         return rel / (1.0 - math.cos(T))
 
+    def monitor_gradient(self, ya, yb):
+        """d monitor / d y at the pole (ya, first piece) and at the edge (yb, last piece)."""
+        H = 1.0 - math.cos(self.scene.theta)
+        ga, gb = np.zeros(6), np.zeros(6)
+        ga[1], ga[0], ga[2] = -1.0 / H, -ya[2] / 2 / H, -ya[0] / 2 / H
+        gb[1] = 1.0 / H
+        return ga, gb
+
     def stack(self, t, profile):
         """Stacked Y(t) from a function profile(s) -> (6, n)."""
         return np.concatenate([profile(self.s_of(i, t)) for i in range(self.P)])

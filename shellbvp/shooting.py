@@ -163,12 +163,8 @@ class ShootingSystem:
     def monitor(self, U):
         Y = np.asarray(U, dtype=float).reshape(self.n + 1, 6)
         m = float(self.problem.monitor(Y[0], Y[-1]))
-        H = 1.0 - math.cos(self.scene.theta)
         g = np.zeros((self.n + 1, 6))
-        g[-1, 1] = 1.0 / H
-        g[0, 1] = -1.0 / H
-        g[0, 0] = -Y[0, 2] / 2 / H
-        g[0, 2] = -Y[0, 0] / 2 / H
+        g[0], g[-1] = self.problem.monitor_gradient(Y[0], Y[-1])
         return m, g.ravel()
 
     @property

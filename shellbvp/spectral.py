@@ -245,12 +245,6 @@ class SpectralSystem:
         gradient in U."""
         Y = self._split(U)
         m = float(self.problem.monitor(Y[0, :, 0], Y[-1, :, -1]))
-        H = 1.0 - math.cos(self.scene.theta)
         g = np.zeros((self.P, 6, self.N + 1))
-        r, th = Y[0, 0, 0], Y[0, 2, 0]
-        # m = (z_edge - z_apex - (cos T - 1)) / H with z_apex = z + r theta / 2 at s = eps.
-        g[-1, 1, -1] += 1.0 / H
-        g[0, 1, 0] -= 1.0 / H
-        g[0, 0, 0] -= th / 2 / H
-        g[0, 2, 0] -= r / 2 / H
+        g[0, :, 0], g[-1, :, -1] = self.problem.monitor_gradient(Y[0, :, 0], Y[-1, :, -1])
         return m, g.ravel()

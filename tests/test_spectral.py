@@ -140,3 +140,17 @@ def test_bad_nodes_are_named():
         SpectralSystem(CAP, 4)
     with pytest.raises(ValueError, match="nodes"):
         solve(CAP, 1.0, backend="spectral", nodes=3)
+
+
+def test_monitor_gradient_matches_finite_differences():
+    """dm/dU (used in every bordered solve) against central differences of m itself."""
+    system = SpectralSystem(CAP, 24)
+    rng = np.random.default_rng(0)
+    U = system.from_profile(shellbvp.reference_state) + 1e-2 * rng.standard_normal(system.size)
+    _, g = system.monitor(U)
+    fd = np.empty_like(g)
+    for k in range(U.size):
+        e = np.zeros_like(U)
+        e[k] = 1e-6
+        fd[k] = (system.monitor(U + e)[0] - system.monitor(U - e)[0]) / 2e-6
+    assert np.max(np.abs(g - fd)) < 1e-7
