@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import shellbvp
-from shellbvp import ContinuationOptions, Scene
+from shellbvp import Chebyshev, ContinuationOptions, Scene
 
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset",
            "Onset", "flat_slope"]
@@ -37,39 +37,36 @@ def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene
 
 
 def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
-                backend="collocation", guess=None, tol=1e-8):
+                method="spectral", guess=None) -> shellbvp.Equilibrium:
     """The equilibrium at curvature stimulus kappa (1/R0), by natural continuation from the
     undeformed cap when no guess is given (steps of at most 0.5 in kappa R0)."""
     sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     if guess is None:
         for k in np.linspace(0.0, kappa, max(2, int(math.ceil(abs(kappa) / 0.5)) + 1))[1:-1]:
-            guess = shellbvp.solve(sc, k, backend=backend, guess=guess, tol=tol,
-                                   estimate_error=False)
-    return shellbvp.solve(sc, kappa, backend=backend, guess=guess, tol=tol)
+            guess = shellbvp.solve(sc, k, method=method, guess=guess, estimate_error=False)
+    return shellbvp.solve(sc, kappa, method=method, guess=guess)
 
 
 def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_max=None,
-           n_folds=1, w_max=None, backend="spectral", tol=1e-9,
-           options: ContinuationOptions | None = None, progress=None, energies=True,
-           nodes=None):
+           n_folds=1, w_max=None, method="spectral", tol=1e-9,
+           options: ContinuationOptions | None = None, progress=None,
+           energies=True) -> shellbvp.Branch:
     """Continuation diagram kappa(w) from the undeformed cap (a :class:`shellbvp.Branch`).
 
     Stops after ``n_folds`` folds (default: the snap; None: no limit), at ``kappa_max``
     (1/R0), or when w exceeds ``w_max`` (default: 1.2 times the fully everted displacement
-    2 (1 - cos Theta)). Folds are located to ``tol`` in kappa (``options.fold_tol`` when
-    options are given). ``backend``: ``"spectral"`` (default), ``"shooting"`` or
-    ``"collocation"`` (see :func:`shellbvp.follow`).
+    2 (1 - cos Theta)). Folds are refined until kappa changes by at most ``tol`` (which
+    replaces ``options.fold_tol``). ``method``: ``Chebyshev(...)`` (default
+    ``"spectral"``), ``Shooting(...)`` or ``Collocation(...)``.
     """
     sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     H = 1.0 - math.cos(sc.theta)
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
-    if options is None:
-        options = ContinuationOptions(ds=0.1, ds_max=0.5, fold_tol=tol) if \
-            backend == "collocation" else ContinuationOptions(ds=0.5, ds_max=2.0, fold_tol=tol)
-    return shellbvp.follow(sc, backend=backend, p0=0.0, p_stop=(-math.inf, kmax),
+    options = (ContinuationOptions() if options is None else options).with_(fold_tol=tol)
+    return shellbvp.follow(sc, method=method, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
-                           progress=progress, energies=energies, nodes=nodes)
+                           progress=progress, energies=energies)
 
 
 @dataclass(frozen=True)
@@ -82,6 +79,7 @@ class SnapResult:
         w_s: edge displacement at the fold, in R0 (nan when it does not snap).
         error_estimate: estimate of the error in kappa_s (mesh refinement of the fold system).
         T: shallowness Theta sqrt(R0/h0).
+        fold: the :class:`shellbvp.Fold` (``fold.equilibrium`` is the shape at the snap).
     """
 
     snaps: bool
@@ -95,31 +93,31 @@ class SnapResult:
     material: str
     T: float
     stats: dict = field(repr=False, default_factory=dict)
+    fold: object = field(repr=False, default=None)
 
 
 def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
-                   backend="spectral", tol=1e-9, nodes=None,
+                   method="spectral", tol=1e-9,
                    options: ContinuationOptions | None = None) -> SnapResult:
-    """kappa_s: the first fold of the branch from kappa = 0, located to ``tol`` (the error
-    estimate comes from refinement: 8 more Chebyshev nodes per step until kappa_s changes by
-    at most tol (spectral), 1/10 of the ODE tolerance (shooting), mesh halving
-    (collocation))."""
-    if options is None and backend != "collocation":   # long steps: only the fold matters
-        options = ContinuationOptions(ds=5.0, ds_max=100.0, fold_tol=tol)
+    """kappa_s: the first fold of the branch from kappa = 0, refined until it changes by at
+    most ``tol`` on the method's ladder (Chebyshev: 8 more nodes per rung; shooting: ODE
+    tolerance / 10; collocation: every interval halved); that change is the error estimate.
+    Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`) unless
+    ``options`` are given."""
+    options = ContinuationOptions.to_first_fold() if options is None else options
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               backend=backend, tol=tol, options=options, energies=False, nodes=nodes)
+               method=method, tol=tol, options=options, energies=False)
     T = theta / math.sqrt(h)
     if not b.folds:
         return SnapResult(False, math.nan, math.nan, math.nan, theta, h, lam, model, material,
                           T, dict(b.stats))
     f = b.folds[0]
-    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam, model,
-                      material, T,
-                      dict(b.stats) | {"fold": f.stats})
+    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam,
+                      model, material, T, dict(b.stats) | {"fold": f.stats}, fold=f)
 
 
 def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-9,
-               backend="spectral", csv_path=None, progress=True):
+               method="spectral", csv_path=None, progress=True):
     """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
 
     Returns a dict of arrays ``T``, ``theta``, ``kappa_s``, ``w_s``, ``error_estimate``,
@@ -136,7 +134,7 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     rows = []
     for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
         r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu,
-                           tol=tol, backend=backend)
+                           tol=tol, method=method)
         rows.append((float(T), float(r.theta), float(r.kappa_s), float(r.w_s),
                      float(r.error_estimate), bool(r.snaps)))
     out = {k: np.array([row[i] for row in rows]) for i, k in
@@ -170,10 +168,11 @@ class Onset:
 
 def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=None):
     """dkappa/dw (1/R0^2) at the flat state w = H of the branch from kappa = 0 (positive:
-    no fold there; negative: between a fold pair)."""
+    no fold there; negative: between a fold pair); ``nodes``: Chebyshev degree (default
+    :func:`shellbvp.default_nodes`)."""
     sc = scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
     H = 1.0 - math.cos(sc.theta)
-    return shellbvp.at_monitor(sc, H, nodes=nodes).dp_dw
+    return shellbvp.at_monitor(sc, H, method=Chebyshev(nodes=nodes)).dp_dw
 
 
 def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_step=0.25,
@@ -184,8 +183,7 @@ def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_ste
     stays positive up to T_max."""
     from scipy.optimize import brentq
 
-    _checks_positive = (("T_lo", T_lo), ("T_step", T_step), ("T_max", T_max), ("tol", tol))
-    for name, v in _checks_positive:
+    for name, v in (("T_lo", T_lo), ("T_step", T_step), ("T_max", T_max), ("tol", tol)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a positive number, got {v!r}")
 

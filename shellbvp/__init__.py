@@ -1,37 +1,60 @@
-"""shellbvp: reduced morphoelastic shell energies, axisymmetric equilibria, continuation.
+"""shellbvp: reduced morphoelastic shell energies derived from 3D, axisymmetric equilibria of
+stimulated spherical shells, continuation and folds (Taffetani & Pezzulla, "Nonlinear
+morphoelastic energy based theory for stimuli responsive elastic shells").
 
 Public API
 ----------
-Energies (Taffetani & Pezzulla, Sections 2-4; derived symbolically, :mod:`shellbvp.reduction`)
-    energy_density, energy_terms, EnergyTerms, thickness_map, stationary_series
-Scenes and equilibria (DESIGN §4, §6)
-    Scene, uniform_curvature, solve, Equilibrium, reference_state, BACKENDS, ConvergenceError
-Continuation and folds (DESIGN §5)
-    ContinuationOptions, continuation, refine_fold, follow, Branch, FoldPoint,
-    at_monitor, MonitorPoint, default_nodes, BRANCH_BACKENDS
-Back-ends (DESIGN §8)
-    spectral (Chebyshev collocation, the default for continuation), shooting (diffrax),
-    collocation (scipy's solve_bvp); :mod:`shellbvp.discrete` continues the first two
+Energies (paper Sections 2-4; derived symbolically from the 3D densities)
+    energy_density, energy_terms, EnergyTerms, thickness_map, stationary_series,
+    MODELS, MATERIALS
+Problem
+    Scene, uniform_curvature (scenes as data); ShellBVP, reference_state (the multi-point
+    axisymmetric BVP of a scene, written once)
+Methods (discretisations behind one protocol)
+    Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
+    default_nodes
+Solving and continuation
+    solve, follow, at_monitor, MonitorPoint, ContinuationOptions
+Results
+    Equilibrium, Branch, Fold, ConvergenceError
 Files
     atomic_write_text
 
-Importing shellbvp turns on JAX float64 (the solvers need double precision).
+Scenes of the paper live in :mod:`shellbvp.problems` (cap eversion, closed sphere), the
+command line in :mod:`shellbvp.cli`. Names are imported on first use, so ``import shellbvp``
+is cheap; the compiled parts turn on JAX float64 (``jax_enable_x64``), the one global JAX
+setting the package changes, because continuation and fold refinement work at 1e-10.
 """
 
-from .cache import atomic_write_text
-from .energy import EnergyTerms, energy_density, energy_terms, thickness_map
-from .series import stationary_series
-from .scene import Scene, uniform_curvature
-from .equilibrium import BACKENDS, ConvergenceError, Equilibrium, reference_state, solve
-from .continuation import ContinuationOptions, continuation, refine_fold
-from .branch import (BRANCH_BACKENDS, Branch, FoldPoint, MonitorPoint, at_monitor,
-                     default_nodes, follow)
+from importlib import import_module
 
-__all__ = [
-    "energy_density", "energy_terms", "EnergyTerms", "thickness_map", "stationary_series",
-    "Scene", "uniform_curvature", "solve", "Equilibrium", "reference_state", "BACKENDS",
-    "ConvergenceError", "ContinuationOptions", "continuation", "refine_fold", "follow",
-    "Branch", "FoldPoint", "atomic_write_text", "at_monitor", "MonitorPoint", "default_nodes",
-    "BRANCH_BACKENDS",
-]
-__version__ = "0.1.0"
+__version__ = "0.2.0"
+
+_WHERE = {
+    "energy_density": "energy", "energy_terms": "energy", "EnergyTerms": "energy",
+    "thickness_map": "energy", "stationary_series": "series",
+    "MODELS": "models", "MATERIALS": "models",
+    "Scene": "scene", "uniform_curvature": "scene",
+    "ShellBVP": "bvp", "reference_state": "bvp",
+    "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
+    "default_nodes": "methods.chebyshev",
+    "solve": "solve", "follow": "solve", "at_monitor": "solve", "MonitorPoint": "solve",
+    "ContinuationOptions": "continuation",
+    "Equilibrium": "results", "Branch": "results", "Fold": "results",
+    "ConvergenceError": "errors",
+    "atomic_write_text": "cache",
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'shellbvp' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

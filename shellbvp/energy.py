@@ -19,8 +19,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
-from .reduction import MATERIALS, MODELS
+from . import checks
+from .models import MATERIALS, MODELS
 
 __all__ = ["energy_density", "energy_terms", "EnergyTerms", "thickness_map"]
 
@@ -65,26 +65,26 @@ def material_parameter(material, lam, nu):
 
 
 def _validate(state, h, lam, model, material, rhob, exact, nu=0.5):
-    _checks.check_choice("material", material, MATERIALS)
+    checks.check_choice("material", material, MATERIALS)
     if material == "koiter":
-        _checks.check_finite("nu", nu)
+        checks.check_finite("nu", nu)
         if not -1.0 < float(np.real(nu)) < 1.0:
             raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio; 0.5 incompressible), got {nu!r}")
         if exact:
             raise ValueError("exact=True is not available for material='koiter' (a reference "
                              "model, not a reduction of a 3D energy)")
-    _checks.check_choice("model", model, MODELS)
+    checks.check_choice("model", model, MODELS)
     names = ("lam1", "lam2", "k1", "k2", "kb1", "kb2")
-    arrays = [_checks.check_finite(n, v) for n, v in zip(names, state)]
+    arrays = [checks.check_finite(n, v) for n, v in zip(names, state)]
     for n, a in zip(names[:2], arrays[:2]):
         if not np.all(np.real(a) > 0):
             raise ValueError(f"{n} (a stretch) must be > 0, got {a!r}")
     if h is not None:
-        h = _checks.check_open_interval("h", h, 0.0, 1.0, " (h = h0/R0, thickness per radius)")
+        h = checks.check_open_interval("h", h, 0.0, 1.0, " (h = h0/R0, thickness per radius)")
     if material == "cg":
-        _checks.check_positive("lam", lam)
-    rb = [_checks.check_finite(n, v) for n, v in zip(("rhob1", "rhob2", "rhob3"), rhob)]
-    _checks.check_positive("rhob1", rb[0])
+        checks.check_positive("lam", lam)
+    rb = [checks.check_finite(n, v) for n, v in zip(("rhob1", "rhob2", "rhob3"), rhob)]
+    checks.check_positive("rhob1", rb[0])
     if exact:
         # Orientation of the thickness map: 1 - Z k > 0 across the thickness.
         kmax = max(float(np.max(np.abs(np.real(a)))) for a in arrays[2:])

@@ -74,8 +74,7 @@ def symbols() -> dict[str, sp.Symbol]:
     return {s.name: s for s in names}
 
 
-MODELS = ("plane_strain", "relaxed")
-MATERIALS = ("cg", "nh", "koiter")
+from .models import MATERIALS, MODELS  # noqa: E402  (re-exported)
 
 
 # --- the 3D density in principal form ------------------------------------------------------

@@ -19,8 +19,8 @@ from typing import Callable
 
 import numpy as np
 
-from . import _checks
-from .reduction import MATERIALS, MODELS
+from . import checks
+from .models import MATERIALS, MODELS
 
 __all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
 
@@ -65,7 +65,7 @@ class Scene:
     rhob1: float = 1.0
     apex: str = "held"
     edge: str = "free"
-    fields: Callable = field(default=uniform_curvature, compare=False)
+    fields: Callable = uniform_curvature
     breaks: tuple = ()
     metric: bool = False
     parameter: str = "kappa"
@@ -77,18 +77,18 @@ class Scene:
         return self.nu if self.material == "koiter" else self.lam
 
     def __post_init__(self):
-        _checks.check_open_interval("theta", self.theta, 0.0, math.pi,
+        checks.check_open_interval("theta", self.theta, 0.0, math.pi,
                                     " (opening half-angle Theta in radians)")
-        _checks.check_open_interval("h", self.h, 0.0, 1.0, " (h = h0/R0, h0 < R0)")
-        _checks.check_choice("model", self.model, MODELS)
-        _checks.check_choice("material", self.material, MATERIALS)
+        checks.check_open_interval("h", self.h, 0.0, 1.0, " (h = h0/R0, h0 < R0)")
+        checks.check_choice("model", self.model, MODELS)
+        checks.check_choice("material", self.material, MATERIALS)
         if self.material == "cg":
-            _checks.check_positive("lam", self.lam)
+            checks.check_positive("lam", self.lam)
         if self.material == "koiter":
-            _checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
-        _checks.check_positive("rhob1", self.rhob1)
-        _checks.check_choice("apex", self.apex, APEX)
-        _checks.check_choice("edge", self.edge, EDGE)
+            checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
+        checks.check_positive("rhob1", self.rhob1)
+        checks.check_choice("apex", self.apex, APEX)
+        checks.check_choice("edge", self.edge, EDGE)
         b = np.asarray(self.breaks, dtype=float)
         if b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0 or b[-1] >= self.theta
                        or not np.all(np.isfinite(b))):

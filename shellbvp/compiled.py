@@ -8,9 +8,8 @@ functions; the W-jet (gradient, Hessian) is taken by JAX autodiff of the derived
     Newton on G(q; y, s) = 0 from (lam2, k2) (converges to round-off in a few steps),
     f(y, q, s), and df/dy = f_y + f_q dq/dy with dq/dy = -G_q^-1 G_y.
 
-The point functions are vmapped and JIT-compiled once per process for two fixed chunk sizes
-(inputs are padded), so solve_bvp's changing meshes never trigger recompilation; the shooting
-back-end uses the point functions directly.
+These are single-node functions; :mod:`shellbvp.bvp` vmaps and compiles them for a scene
+(fields included), and the shooting method traces them inside its ODE solver.
 """
 
 from __future__ import annotations
@@ -19,19 +18,17 @@ from functools import lru_cache
 
 import numpy as np
 
-from ._jax import jax
+from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["AxisymmetricSystem", "ConvergenceError", "point_functions"]
+__all__ = ["point_functions", "NEWTON_TOL"]
 
+#: inner (lam1, k1) Newton: converges quadratically from the pole-like guess in 3-6 steps;
+#: 40 only bounds the work on a wild outer iterate (which then reports failure).
 NEWTON_MAXITER = 40
+#: relative update at which the inner Newton stops (the next update would be ~1e-26)
 NEWTON_TOL = 1e-13
-CHUNKS = (8, 128, 512)
-
-
-class ConvergenceError(RuntimeError):
-    """A solver did not converge. The message says where and what to try."""
 
 
 @lru_cache(maxsize=None)
@@ -73,8 +70,10 @@ def _arr(x):
 def point_functions(model, material, rhob1, metric):
     """Single-node JAX functions (y (6,), s, F (4,), lam, h) -> ...
 
-    Returns a dict with ``algebraic`` -> (q, X, converged), ``rhs`` -> (f, converged),
-    ``rhs_jac`` -> (f, J, converged).
+    Returns a dict with ``algebraic`` -> (q, X, converged), ``rhs`` -> (f, converged) and
+    ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q): the right-hand side, its Jacobian
+    and its derivative along a change dF of the fields (df/dp when dF = dF/dp), both by
+    implicit differentiation of G = 0; ``q_init`` warm-starts the inner Newton.
     """
     Wf = _energy_jax(model, material, float(rhob1))
     el = _el_jax(bool(metric))
@@ -133,15 +132,6 @@ def point_functions(model, material, rhob1, metric):
         X, g, H = jet(y, q, s, F, lam, h)
         return _arr(el["f"](*args(y, q, s, F, g, H, h))), ok
 
-    def rhs_jac(y, s, F, lam, h):
-        q, _, ok = algebraic(y, s, F, lam, h)
-        X, g, H = jet(y, q, s, F, lam, h)
-        a = args(y, q, s, F, g, H, h)
-        f = _arr(el["f"](*a))
-        fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
-        Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
-        return f, fy - fq @ jnp.linalg.solve(Gq, Gy), ok
-
     def f_and_G(y, q, s, F, lam, h):
         # f and G need only the W gradient (no Hessian): used for derivatives in the fields.
         X = X_of(y, q, s, F, h)
@@ -149,7 +139,7 @@ def point_functions(model, material, rhob1, metric):
         a = args(y, q, s, F, g, zero44, h)
         return _arr(el["f"](*a)), _arr(el["G"](*a))
 
-    def rhs_jac_p(y, s, F, dF, lam, h, q_init=None):
+    def rhs_jac(y, s, F, dF, lam, h, q_init=None):
         """f, df/dy and the derivative of f along a change dF of the fields (a parameter
         derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
         q, _, ok = algebraic(y, s, F, lam, h, q_init)
@@ -161,75 +151,6 @@ def point_functions(model, material, rhob1, metric):
         _, (df, dG) = jax.jvp(lambda F_: f_and_G(y, q, s, F_, lam, h), (F,), (dF,))
         J = fy - fq @ jnp.linalg.solve(Gq, Gy)
         fp = df - fq @ jnp.linalg.solve(Gq, dG)
-        return (f, J, fp, ok) if q_init is None else (f, J, fp, ok, q)
+        return f, J, fp, ok, q
 
-    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac, "rhs_jac_p": rhs_jac_p}
-
-
-@lru_cache(maxsize=None)
-def _batched(model, material, rhob1, metric):
-    pf = point_functions(model, material, rhob1, metric)
-    ax = (1, 0, 1, None, None)
-    # rhs_jac_p is batched by the spectral back-end's own kernel (shellbvp.spectral).
-    return {k: jax.jit(jax.vmap(v, in_axes=ax)) for k, v in pf.items() if k != "rhs_jac_p"}
-
-
-class AxisymmetricSystem:
-    """y' = f(s, y) of one scene at one parameter value, evaluated on arrays of nodes.
-
-    Arguments:
-        scene: a :class:`shellbvp.scene.Scene`.
-        p: the value of the scene's parameter.
-    """
-
-    def __init__(self, scene, p):
-        self.scene = scene
-        self.p = float(p)
-        self.fns = _batched(scene.model, scene.material, float(scene.rhob1), bool(scene.metric))
-        self.calls = 0
-
-    def fields(self, piece, s, p=None):
-        return self.scene.evaluate_fields(piece, s, self.p if p is None else p)
-
-    def _call(self, name, piece, s, y, p=None):
-        s = np.atleast_1d(np.asarray(s, dtype=float))
-        y = np.asarray(y, dtype=float).reshape(6, -1)
-        F = np.stack(self.fields(piece, s, p))
-        n = s.size
-        size = next((c for c in CHUNKS if n <= c), CHUNKS[-1])
-        outs = []
-        for start in range(0, n, size):
-            stop = min(start + size, n)
-            pad = size - (stop - start)
-            sl = slice(start, stop)
-            sp_ = np.pad(s[sl], (0, pad), mode="edge")
-            yp = np.pad(y[:, sl], ((0, 0), (0, pad)), mode="edge")
-            Fp = np.pad(F[:, sl], ((0, 0), (0, pad)), mode="edge")
-            res = self.fns[name](yp, sp_, Fp, self.scene.material_parameter,
-                                  self.scene.h)
-            outs.append([np.asarray(r)[: stop - start] for r in res])
-        self.calls += 1
-        res = [np.concatenate(parts, axis=0) for parts in zip(*outs)]
-        ok = res[-1]
-        if not np.all(ok):
-            bad = s[np.argmin(ok)]
-            raise ConvergenceError(
-                f"inner Newton for (lam1, k1) did not converge at s = {bad:.6g} "
-                f"({self.scene.parameter} = {self.p if p is None else p:g}): the state is far from admissible "
-                f"(lam1 <= 0, or the constitutive inversion folds); take a smaller step")
-        return res[:-1]
-
-    def rhs(self, piece, s, y, p=None):
-        """f (6, n); ``p`` overrides the parameter value given at construction."""
-        (f,) = self._call("rhs", piece, s, y, p)
-        return f.T
-
-    def rhs_and_jac(self, piece, s, y, p=None):
-        """f (6, n) and df/dy (6, 6, n)."""
-        f, J = self._call("rhs_jac", piece, s, y, p)
-        return f.T, np.moveaxis(J, 0, -1)
-
-    def state(self, piece, s, y, p=None):
-        """Principal state X = (lam1, lam2, k1, k2) (4, n) and the fields at s."""
-        q, X = self._call("algebraic", piece, s, y, p)
-        return X.T, self.fields(piece, np.atleast_1d(s), p)
+    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac}

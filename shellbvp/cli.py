@@ -38,8 +38,9 @@ def _common(p, theta=True):
                    help="Poisson ratio of the Koiter reference model (default 0.5)")
     p.add_argument("--tol", type=float, default=1e-9,
                    help="target accuracy of kappa_s, in (0, 1) (default 1e-9)")
-    p.add_argument("--backend", default="spectral", choices=["spectral", "shooting", "collocation"],
-                   help="BVP back-end (default spectral: Chebyshev collocation)")
+    p.add_argument("--method", "--backend", dest="method", default="spectral",
+                   choices=["spectral", "shooting", "collocation"],
+                   help="discretisation (default spectral: Chebyshev collocation)")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -69,10 +70,10 @@ def parser():
 def main(argv=None) -> int:
     p = parser()
     a = p.parse_args(argv)
-    from problems import cap_eversion as ce
-    import shellbvp
+    from . import ConvergenceError
+    from .problems import cap_eversion as ce
 
-    opts = dict(model=a.model, material=a.material, nu=a.nu, backend=a.backend)
+    opts = dict(model=a.model, material=a.material, nu=a.nu, method=a.method)
     if not (0 < a.tol < 1):
         p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
     try:
@@ -94,7 +95,7 @@ def main(argv=None) -> int:
             print(f"{out['T'].size} caps, {int(out['snaps'].sum())} snap -> {a.csv}")
     except ValueError as exc:
         p.exit(2, f"shellbvp: error: {exc}\n")
-    except shellbvp.ConvergenceError as exc:
+    except ConvergenceError as exc:
         p.exit(1, f"shellbvp: solver failure: {exc}\n")
     return 0
 

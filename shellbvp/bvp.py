@@ -1,0 +1,314 @@
+"""The axisymmetric boundary-value problem of a scene, written once for every method.
+
+A :class:`ShellBVP` turns a :class:`shellbvp.Scene` into a multi-point first-order BVP
+for y = (r, z, theta, m, f_r, f_z) (m, f = 12/h^2 times the moment and forces, so that
+bending and membrane unknowns have the same size):
+
+* **pieces**: the meridian s in [eps, theta] is cut at the scene's interfaces into pieces
+  [a_i, b_i], each mapped to the piece coordinate t in [0, 1] (dy/dt = (b_i - a_i) f). The
+  methods keep one state per piece and impose continuity of all six components at every
+  interface, so a jump of the stimulus is exact (the meridional stretch may jump there);
+* **pole**, at s = eps = ``POLE_OFFSET`` theta: the pole is a regular singular point whose
+  regular solution has lam1 = lam2 + O(s^2), k1 = k2 + O(s^2) and
+  z(0) = z(eps) + r theta / 2 + O(eps^4); the conditions are lam1 = lam2, k1 = k2 and
+  z(0) = 0 (apex ``held``) or f_z = 0 (apex ``free``). Their O(eps^2) relative error gives
+  an O(eps^4) error in the solution;
+* **edge**, at s = theta: m = f_r = f_z = 0 (``free``) or r, z, theta at the reference
+  sphere's values (``clamped``);
+* **observable** (the branch monitor), in units of the rise H = 1 - cos theta: for a free
+  edge the vertical displacement of the edge relative to the apex, for a clamped edge that
+  of the apex relative to the edge (positive along +z, the cap's axis at the apex).
+
+The reference mid-surface is r = sin s, z = cos s - 1, theta = s (apex at the origin). All
+of the above is JAX code compiled once per (model, material, fields, pieces, conditions); the
+methods in :mod:`shellbvp.methods` only discretise it. The nodal right-hand side is
+evaluated in padded chunks of ``NODE_CHUNK`` nodes, so that a change of resolution reuses a
+compiled program instead of compiling a new one.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+
+from .compiled import point_functions
+from .errors import ConvergenceError
+from .jaxsetup import jax
+from .scene import Scene
+
+import jax.numpy as jnp  # noqa: E402
+
+__all__ = ["ShellBVP", "Nodal", "reference_state", "POLE_OFFSET", "NODE_CHUNK"]
+
+#: eps / theta. The pole conditions are exact to O(eps^2), so the solution is good to
+#: O(eps^4) = 1e-16 relative: below every tolerance the solvers reach, while eps stays far
+#: enough from s = 0 that lam2 = r / (g2 sin s) is evaluated without cancellation.
+POLE_OFFSET = 1e-4
+#: nodes are evaluated in padded chunks of a multiple of this size (at most MAX_CHUNK):
+#: a few compiled shapes serve every resolution.
+NODE_CHUNK = 16
+MAX_CHUNK = 512
+#: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
+ENERGY_PANELS, ENERGY_GAUSS = 64, 4
+
+
+def reference_state(s):
+    """The undeformed cap: (r, z, theta, m, f_r, f_z) = (sin s, cos s - 1, s, 0, 0, 0)."""
+    s = np.asarray(s, dtype=float)
+    z0 = np.zeros_like(s)
+    return np.stack([np.sin(s), np.cos(s) - 1.0, s, z0, z0, z0])
+
+
+class Nodal(NamedTuple):
+    """The right-hand side at nodes of every piece: f (P, 6, m), df/dy (P, 6, 6, m),
+    df/dp (P, 6, m), and ``hint``, an opaque warm start for the next evaluation."""
+
+    f: np.ndarray
+    J: np.ndarray
+    fp: np.ndarray
+    hint: object = None
+
+
+def _chunk(n: int) -> int:
+    return min(MAX_CHUNK, NODE_CHUNK * math.ceil(n / NODE_CHUNK))
+
+
+@lru_cache(maxsize=32)
+def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
+    """The scene's compiled functions (see :class:`ShellBVP`)."""
+    pf = point_functions(model, material, rhob1, metric)
+
+    def field_piece(i):
+        def F(s, p):
+            return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
+                              for v in fields(i, s, p)])
+        return F
+
+    branches = [field_piece(i) for i in range(P)]
+
+    def fields_at(piece, s, p):
+        return jax.lax.switch(piece, branches, s, p) if P > 1 else branches[0](s, p)
+
+    def nodal_one(piece, s, y, p, lam, h, q_init):
+        F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_), (p,), (jnp.ones_like(p),))
+        f, J, fp, ok, q = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
+        return F, f, J, fp, ok, q
+
+    def state_one(piece, s, y, p, lam, h):
+        F = fields_at(piece, s, p)
+        _, X, ok = pf["algebraic"](y, s, F, lam, h)
+        return X, F, ok
+
+    def boundary(ya, yb, p, eps, theta, lam, h):
+        _, X, ok = pf["algebraic"](ya, eps, fields_at(0, eps, p), lam, h)
+        third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
+        start = jnp.stack([X[0] - X[1], X[2] - X[3], third])
+        if edge == "free":
+            end = yb[3:6]
+        else:
+            end = jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
+                             yb[2] - theta])
+        return jnp.concatenate([start, end]), ok
+
+    def boundary_jac(ya, yb, p, eps, theta, lam, h):
+        r, ok = boundary(ya, yb, p, eps, theta, lam, h)
+        Ja, Jb, Jp = jax.jacfwd(lambda *a: boundary(*a, eps, theta, lam, h)[0],
+                                argnums=(0, 1, 2))(ya, yb, p)
+        return r, Ja, Jb, Jp, ok
+
+    def observable(ya, yb, theta):
+        H = 1.0 - jnp.cos(theta)
+        z_apex = ya[1] + ya[0] * ya[2] / 2       # z(0) from the regular series at eps
+        rel = yb[1] - z_apex - (jnp.cos(theta) - 1.0)
+        return (rel if edge == "free" else -rel) / H
+
+    def vector_field(piece, s, y, p, lam, h):
+        return pf["rhs"](y, s, fields_at(piece, s, p), lam, h)[0]
+
+    ax = (0, 0, 0, None, None, None, 0)
+    return dict(
+        nodal=jax.jit(jax.vmap(nodal_one, in_axes=ax)),
+        state=jax.jit(jax.vmap(state_one, in_axes=ax[:-1])),
+        boundary=jax.jit(boundary_jac),
+        observable=jax.jit(jax.value_and_grad(observable, argnums=(0, 1))),
+        vector_field=vector_field,
+    )
+
+
+class ShellBVP:
+    """The multi-point BVP of ``scene`` (see the module docstring).
+
+    Arguments:
+        scene: the problem.
+        eps: pole offset (default ``POLE_OFFSET * theta``); must be below a tenth of the
+            first piece.
+
+    Attributes:
+        scene, eps, P (number of pieces), a, b (piece ends in s), rise (H = 1 - cos theta).
+    """
+
+    n = 6
+
+    def __init__(self, scene: Scene, eps: float | None = None):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
+        eps = POLE_OFFSET * scene.theta if eps is None else float(eps)
+        first = scene.breaks[0] if scene.breaks else scene.theta
+        if not (0 < eps < first / 10):
+            raise ValueError(f"eps must lie in (0, {first / 10:g}) (a tenth of the first "
+                             f"piece), got {eps!r}")
+        self.scene, self.eps = scene, eps
+        self.a = np.array((eps,) + scene.breaks)
+        self.b = np.array(scene.breaks + (scene.theta,))
+        self.P = scene.pieces
+        self.rise = 1.0 - math.cos(scene.theta)
+        self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
+                           bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge)
+        self.evaluations = 0
+
+    @property
+    def lengths(self) -> np.ndarray:
+        return self.b - self.a
+
+    def s_of(self, i: int, t):
+        """s on piece i at the piece coordinate t in [0, 1]."""
+        return self.a[i] + (self.b[i] - self.a[i]) * np.asarray(t, dtype=float)
+
+    def reference(self, s):
+        """The undeformed state at s (the default guess)."""
+        return reference_state(s)
+
+    @property
+    def material_parameter(self) -> float:
+        return self.scene.material_parameter
+
+    # --- nodal functions ----------------------------------------------------------------------
+    def _flat(self, name, s, Y, p, extra=()):
+        """Call kernel ``name`` on every node of s (P, m), Y (P, 6, m), in padded chunks."""
+        P, m = s.shape
+        n = P * m
+        piece = np.repeat(np.arange(P), m)
+        sf = s.reshape(n)
+        yf = np.moveaxis(Y, 1, -1).reshape(n, 6)
+        size = _chunk(n)
+        outs = []
+        for start in range(0, n, size):
+            stop = min(start + size, n)
+            idx = np.minimum(np.arange(start, start + size), stop - 1)   # pad with the last
+            args = [piece[idx], sf[idx], yf[idx], float(p), self.material_parameter,
+                    self.scene.h] + [e[idx] for e in extra]
+            outs.append([np.asarray(o)[: stop - start] for o in self._k[name](*args)])
+        return [np.concatenate(parts) for parts in zip(*outs)]
+
+    def _check(self, F, ok, s, p):
+        P, m = s.shape
+        F = F.reshape(P, m, 4)
+        for i in range(P):
+            self.scene.check_fields(list(F[i].T), i, p)
+        if not np.all(ok):
+            k = int(np.argmin(ok))
+            raise ConvergenceError(
+                f"inner Newton for (lam1, k1) did not converge at s = {s.ravel()[k]:.6g} "
+                f"({self.scene.parameter} = {p:g}): the state is far from admissible "
+                f"(lam1 <= 0, or the constitutive inversion folds); take a smaller step")
+
+    def rhs(self, s, Y, p, hint=None) -> Nodal:
+        """f, df/dy and df/dp at nodes s (P, m) with states Y (P, 6, m) (piece-major).
+
+        ``hint``: the ``hint`` of a previous evaluation at the same nodes (warm start of the
+        inner Newton; changes cost only). Raises ConvergenceError where the inner Newton fails
+        and ValueError for inadmissible stimulus fields.
+        """
+        s = np.asarray(s, dtype=float)
+        Y = np.asarray(Y, dtype=float)
+        P, m = s.shape
+        q0 = hint if (hint is not None and hint.shape == (P * m, 2)) else \
+            np.full((P * m, 2), np.nan)
+        F, f, J, fp, ok, q = self._flat("nodal", s, Y, p, (q0,))
+        if not np.all(ok) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
+            F, f, J, fp, ok, q = self._flat("nodal", s, Y, p, (np.full_like(q0, np.nan),))
+        self.evaluations += 1
+        self._check(F, ok, s, p)
+        f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
+        J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
+        fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
+        return Nodal(f, J, fp, q)
+
+    def state(self, s, Y, p):
+        """Principal state X = (lam1, lam2, k1, k2) (P, 4, m) and fields (P, 4, m) at nodes."""
+        s = np.asarray(s, dtype=float)
+        P, m = s.shape
+        X, F, ok = self._flat("state", s, np.asarray(Y, dtype=float), p)
+        self._check(F, ok, s, p)
+        return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F.reshape(P, m, 4), -1, 1))
+
+    # --- boundary conditions and observable ---------------------------------------------------
+    def boundary(self, ya, yb, p):
+        """Residual (6,) of the pole (3 rows) and edge (3 rows) conditions, with its
+        derivatives in ya = y(eps), yb = y(theta) and p. Interface continuity is imposed by
+        the methods (all six components)."""
+        sc = self.scene
+        r, Ja, Jb, Jp, ok = (np.asarray(v) for v in self._k["boundary"](
+            np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
+            sc.theta, self.material_parameter, sc.h))
+        if not ok:
+            raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "
+                                   f"({sc.parameter} = {p:g})")
+        return r, Ja, Jb, Jp
+
+    def monitor(self, ya, yb):
+        """The observable w / H (module docstring) and its gradients in ya and yb."""
+        m, (ga, gb) = self._k["observable"](np.asarray(ya, dtype=float),
+                                            np.asarray(yb, dtype=float), self.scene.theta)
+        return float(m), np.asarray(ga), np.asarray(gb)
+
+    def vector_field(self):
+        """The traceable point function (piece, s, y, p, material_parameter, h) -> f (6,),
+        for methods that integrate the ODE themselves (shooting)."""
+        return self._k["vector_field"]
+
+    # --- post-processing ----------------------------------------------------------------------
+    def profile(self, dense_t):
+        """A callable s -> (6, n) from a stacked interpolant t -> (6 P, n) in the piece
+        coordinate (each s evaluated on its own piece; an interface belongs to the next)."""
+        def ev(s):
+            s = np.atleast_1d(np.asarray(s, dtype=float))
+            out = np.empty((6, s.size))
+            for i in range(self.P):
+                lo = self.a[i] if i else -np.inf
+                sel = (s >= lo) & ((s < self.b[i]) if i < self.P - 1 else (s <= np.inf))
+                if np.any(sel):
+                    t = (s[sel] - self.a[i]) / (self.b[i] - self.a[i])
+                    out[:, sel] = np.asarray(dense_t(t))[6 * i:6 * i + 6]
+            return out
+
+        return ev
+
+    def energies(self, dense_t, p):
+        """(E_s, E_b) = 2 pi int (w_s, h^2/12 w_b) g1 g2 sin s ds, per mu* h0 R0^2, by
+        Gauss-Legendre quadrature per piece plus the polar cap [0, eps] (W is constant there
+        to O(eps^2)). ``dense_t(t)`` is the stacked (6 P, n) solution in the piece
+        coordinate."""
+        from .energy import energy_terms
+
+        sc = self.scene
+        xg, wg = np.polynomial.legendre.leggauss(ENERGY_GAUSS)
+        edges = np.linspace(0.0, 1.0, ENERGY_PANELS + 1)
+        mid, half = (edges[:-1] + edges[1:]) / 2, (edges[1:] - edges[:-1]) / 2
+        t = (mid[:, None] + half[:, None] * xg[None, :]).ravel()
+        wt = (half[:, None] * wg[None, :]).ravel()
+        s = np.stack([self.s_of(i, t) for i in range(self.P)])
+        Y = np.asarray(dense_t(t)).reshape(self.P, 6, t.size)
+        X, F = self.state(s, Y, p)
+        g1, g2, kb1, kb2 = np.moveaxis(F, 1, 0)
+        ws, wb, _, _ = energy_terms(*np.moveaxis(X, 1, 0), kb1, kb2, lam=sc.lam, nu=sc.nu,
+                                    model=sc.model, material=sc.material, rhob1=sc.rhob1)
+        dA = g1 * g2 * np.sin(s) * self.lengths[:, None] * wt[None, :]
+        Es, Eb = float(np.sum(ws * dA)), sc.h**2 / 12 * float(np.sum(wb * dA))
+        cap = g1[0, 0] * g2[0, 0] * (1 - math.cos(self.eps))
+        Es += ws[0, 0] * cap
+        Eb += sc.h**2 / 12 * wb[0, 0] * cap
+        return 2 * math.pi * Es, 2 * math.pi * Eb

@@ -1,0 +1,16 @@
+"""One continuation and fold machinery for every discretisation (:mod:`shellbvp.methods`).
+
+* :mod:`.newton`: bordered Newton and the exact branch tangent;
+* :mod:`.arclength`: pseudo-arclength continuation with step control, fold detection;
+* :mod:`.folds`: fold location (dp/dm = 0), polishing, and the refinement ladder that gives
+  every fold its error estimate;
+* :mod:`.options`: :class:`ContinuationOptions`, the one source of defaults.
+"""
+
+from .arclength import Point, pseudo_arclength
+from .folds import locate_fold, polish_fold, refine_fold
+from .newton import NewtonResult, newton, tangent
+from .options import ContinuationOptions
+
+__all__ = ["ContinuationOptions", "Point", "pseudo_arclength", "locate_fold", "polish_fold",
+           "refine_fold", "NewtonResult", "newton", "tangent"]

@@ -1,0 +1,112 @@
+"""Pseudo-arclength continuation of a discrete system R(U, p) = 0, with exact tangents.
+
+Arclength is measured in the whole space (U, p) with the RMS norm of U
+(|U|^2 / n + p^2), so that a change of shape counts as much as a change of parameter. The
+predictor is the exact tangent (from the bordered matrix of the converged corrector, no
+secant), so dp/ds is known at every point and a fold is where it changes sign. Step
+control: the next step is scaled so that the tangent turns by about ``options.turn`` radians
+and the first Newton contraction stays near ``options.contraction`` (at most doubling,
+halving after a failed correction), within [ds_min, ds_max].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..errors import ConvergenceError
+from .newton import NewtonResult, newton, tangent
+from .options import ContinuationOptions
+
+__all__ = ["Point", "pseudo_arclength"]
+
+#: iterations allowed to the first (natural-parameter) solve, which may start far away
+START_MAXITER = 40
+
+
+@dataclass(frozen=True)
+class Point:
+    """A converged point of a branch: parameter p, monitor m (w / H for a shell), the
+    arclength in the (m, p) plane, the unknowns U, the unit tangent (dm/ds, dp/ds) and the
+    tangent of U per unit arclength, and the corrector's iteration count."""
+
+    p: float
+    monitor: float
+    arclength: float
+    U: np.ndarray = field(repr=False)
+    tangent: tuple = (0.0, 0.0)
+    dU: np.ndarray = field(repr=False, default=None)
+    iterations: int = 0
+
+
+def _point(res: NewtonResult, v, dp, sign, arclength, n) -> Point:
+    nrm = math.sqrt(float(v @ v) / n + dp * dp)
+    v, dp = sign * v / nrm, sign * dp / nrm
+    return Point(res.p, res.m, arclength, res.U, (float(res.gm @ v), dp), v, res.iterations)
+
+
+def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = ContinuationOptions(),
+                     p_stop=(-math.inf, math.inf), monitor_stop=(-math.inf, math.inf),
+                     n_folds=None, direction=1.0, progress: Callable | None = None):
+    """Follow the branch of ``system`` through the solution near (U0, p0).
+
+    Stops when p leaves ``p_stop``, the monitor leaves ``monitor_stop``, after ``n_folds``
+    folds, or at ``options.max_steps`` points. ``direction``: sign of the first step in p.
+    ``progress(point)`` is called after every accepted point.
+
+    Returns (points, brackets): the points and, for every fold passed, the index pair
+    (i, i + 1) of the points between which dp/ds changed sign.
+    Raises ConvergenceError (with the Newton history) if the start does not converge or the
+    step falls below ``ds_min``.
+    """
+    o = options
+    n = system.size
+    res = newton(system, U0, p0, 0.0, 1.0, p0, tol=o.newton_tol, maxiter=START_MAXITER,
+                 fail_fast=False)
+    if not res.ok:
+        raise ConvergenceError(f"continuation: no solution at the start {p0:g}: Newton history "
+                               f"{res.history}")
+    v, _, dp = tangent(res)
+    pts = [_point(res, v, dp, math.copysign(1.0, direction * dp), 0.0, n)]
+    if progress:
+        progress(pts[0])
+    brackets = []
+    ds = o.ds
+    while len(pts) < o.max_steps:
+        b = pts[-1]
+        if not (p_stop[0] <= b.p <= p_stop[1] and monitor_stop[0] <= b.monitor <= monitor_stop[1]):
+            break
+        if n_folds is not None and len(brackets) >= n_folds:
+            break
+        tp = b.tangent[1]
+        row = b.dU / n
+        c = float(row @ b.U) + tp * b.p + ds
+        res = newton(system, b.U + ds * b.dU, b.p + ds * tp, 0.0, tp, c, row=row,
+                     tol=o.newton_tol, maxiter=o.newton_maxiter)
+        if not res.ok:
+            ds /= 2
+            if ds < o.ds_min:
+                raise ConvergenceError(
+                    f"continuation stalled at p = {b.p:.10g} (monitor {b.monitor:.6g}): Newton "
+                    f"failed down to ds_min = {o.ds_min:g}; last history {res.history}")
+            continue
+        v, _, dp = tangent(res)
+        sign = 1.0 if float(v @ b.dU) / n + dp * tp > 0 else -1.0   # keep the orientation
+        arc = b.arclength + math.hypot(res.m - b.monitor, res.p - b.p)
+        new = _point(res, v, dp, sign, arc, n)
+        if new.tangent[1] * tp < 0:
+            brackets.append((len(pts) - 1, len(pts)))
+        pts.append(new)
+        if progress:
+            progress(new)
+        cosang = float(new.dU @ b.dU) / n + new.tangent[1] * tp
+        angle = math.acos(max(-1.0, min(1.0, cosang)))
+        factor = o.turn / max(angle, 1e-12)
+        if len(res.history) >= 2 and res.history[0][1] > 0:
+            theta = res.history[1][1] / res.history[0][1]
+            factor = min(factor, math.sqrt(o.contraction / max(theta, 1e-12)))
+        ds = min(max(ds * min(2.0, max(0.5, factor)), o.ds_min), o.ds_max)
+    return pts, brackets

@@ -1,0 +1,165 @@
+"""Folds: location between two branch points, polishing on another discretisation, and the
+refinement ladder that gives every fold its error estimate.
+
+Along the branch parametrised by the monitor m, p(m) is smooth and a fold of p is a
+stationary point, dp/dm = 0, where dp/dm follows exactly from the bordered matrix with the
+monitor prescribed (:func:`shellbvp.continuation.newton.tangent`). This is an exact fold
+system, not a fit through coarse points: the fold is found to the discretisation's accuracy,
+and since p is stationary there, an error delta in m costs only O(delta^2) in p.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import ConvergenceError
+from ..results import Fold
+from .newton import newton, tangent
+from .options import ContinuationOptions
+
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "COARSE_MONITOR_TOL"]
+
+#: the coarse fold only seeds the ladder: m to 1e-7 gives p to O(1e-14)
+COARSE_MONITOR_TOL = 1e-7
+#: Newton tolerance and monitor tolerance of a fold that is returned to the user
+FOLD_NEWTON_TOL = 1e-10
+FOLD_MONITOR_TOL = 1e-10
+#: first secant step in m and the window the secant iteration may not leave (in w / H)
+POLISH_STEP, POLISH_WINDOW = 1e-5, 0.05
+POLISH_MAXITER = 12
+
+
+class _Slope:
+    """dp/dm along the branch at prescribed monitor values, remembering every solve (the
+    nearest one, with its exact tangent, is the predictor for the next)."""
+
+    def __init__(self, system, known, tol):
+        self.system, self.tol = system, tol
+        self.known = list(known)   # (m, U, p, dU/dm, dp/dm)
+        self.solves = self.iterations = 0
+
+    def __call__(self, mv):
+        for k in self.known:
+            if k[0] == mv:
+                return k[4]
+        m0, U0, p0, dU0, g0 = min(self.known, key=lambda k: abs(k[0] - mv))
+        res = newton(self.system, U0 + (mv - m0) * dU0, p0 + (mv - m0) * g0, 1.0, 0.0, mv,
+                     tol=self.tol)
+        self.solves += 1
+        self.iterations += res.iterations
+        if not res.ok:
+            raise ConvergenceError(f"fold location: Newton failed at monitor {mv:.10g}: "
+                                   f"{res.history}")
+        v, _, dp = tangent(res)
+        self.known.append((mv, res.U, res.p, v, dp))
+        return dp
+
+    def state(self, mv):
+        self(mv)
+        k = next(k for k in reversed(self.known) if k[0] == mv)
+        return k[2], k[1]
+
+    def stats(self, t0, extra=0):
+        return dict(solves=self.solves, newton_iterations=self.iterations + extra,
+                    wall_time=time.perf_counter() - t0)
+
+
+def locate_fold(system, a, b, *, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL) -> Fold:
+    """The fold between branch points a and b (:class:`Point` with dp/ds of opposite signs):
+    Brent's method on dp/dm over [m_a, m_b], each value from a Newton solve at prescribed m.
+
+    Raises ConvergenceError if dp/dm does not change sign over the bracket (the monitor is
+    not a coordinate of the branch there) or a Newton solve fails.
+    """
+    t0 = time.perf_counter()
+    if a.tangent[0] == 0 or b.tangent[0] == 0 or not (
+            a.tangent[1] / a.tangent[0] * b.tangent[1] / b.tangent[0] < 0):
+        raise ConvergenceError(f"fold location: dp/dm does not change sign between monitor "
+                               f"{a.monitor:.6g} and {b.monitor:.6g} (tangents {a.tangent}, "
+                               f"{b.tangent}): the monitor is not a coordinate of the branch")
+    slope = _Slope(system, [(q.monitor, q.U, q.p, q.dU / q.tangent[0],
+                             q.tangent[1] / q.tangent[0]) for q in (a, b)], tol)
+    lo, hi = sorted((a.monitor, b.monitor))
+    m_star = brentq(slope, lo, hi, xtol=monitor_tol, rtol=4 * np.finfo(float).eps)
+    p, U = slope.state(m_star)
+    return Fold(p=p, monitor=m_star, U=U, system=system, bracket=(lo, hi),
+                stats=slope.stats(t0))
+
+
+def polish_fold(system, U, p, monitor, *, step=POLISH_STEP, window=POLISH_WINDOW,
+                tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL,
+                maxiter=POLISH_MAXITER) -> Fold:
+    """Re-locate a fold known approximately (e.g. on a coarser discretisation): secant
+    iteration on dp/dm = 0 from ``monitor`` and ``monitor + step``.
+
+    Raises ConvergenceError if the secant iteration does not converge or leaves
+    [monitor - window, monitor + window].
+    """
+    t0 = time.perf_counter()
+    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol)
+    if not res.ok:
+        raise ConvergenceError(f"fold polishing: Newton failed at monitor {monitor:.10g}: "
+                               f"{res.history}")
+    v, _, dp = tangent(res)
+    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol)
+    m0, g0 = monitor, dp
+    m1 = monitor + step
+    g1 = slope(m1)
+    for _ in range(maxiter):
+        if g1 == g0:
+            break
+        m2 = m1 - g1 * (m1 - m0) / (g1 - g0)
+        if abs(m2 - monitor) > window:
+            raise ConvergenceError(f"fold polishing left its window: monitor {m2:.10g} from "
+                                   f"{monitor:.10g} (window {window:g}); the estimate is too "
+                                   f"far (use a finer starting discretisation)")
+        m0, g0, m1 = m1, g1, m2
+        g1 = slope(m1)
+        if abs(m1 - m0) <= monitor_tol:
+            break
+    else:
+        raise ConvergenceError(f"fold polishing: no convergence in {maxiter} secant steps "
+                               f"(last monitor change {abs(m1 - m0):.2e})")
+    p, U = slope.state(m1)
+    return Fold(p=p, monitor=m1, U=U, system=system,
+                bracket=(monitor - window, monitor + window),
+                stats=slope.stats(t0, res.iterations))
+
+
+def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOptions(),
+                index: int = -1) -> Fold:
+    """The fold between branch points a and b, to ``options.fold_tol``.
+
+    Located coarsely on ``system``, then polished on ``system.refined()``, its refinement,
+    and so on, until the fold parameter changes by at most ``fold_tol`` from one rung to the
+    next; that change is the error estimate and the finer fold is returned (so the estimate
+    bounds the error of the coarser value and overestimates that of the returned one).
+    Raises ConvergenceError after ``options.max_refinements`` rungs.
+    """
+    t0 = time.perf_counter()
+    coarse = locate_fold(system, a, b, monitor_tol=COARSE_MONITOR_TOL)
+    stats = dict(coarse.stats, coarse=system.describe())
+    current, change = coarse, math.nan
+    for k in range(1, options.max_refinements + 1):
+        try:
+            finer = current.system.refined()
+        except ValueError as exc:
+            raise ConvergenceError(
+                f"fold near {current.p:.10g}: not converged to fold_tol = "
+                f"{options.fold_tol:g} ({exc}; last change {change:.2e})") from None
+        fine = polish_fold(finer, current.system.transfer(current.U, current.p, finer),
+                           current.p, current.monitor)
+        change = abs(fine.p - current.p)
+        if change <= options.fold_tol:
+            return fine.with_estimate(
+                change, index=index,
+                stats=dict(stats, refinements=k, resolution=finer.describe(),
+                           error_estimate=change, wall_time=time.perf_counter() - t0))
+        current = fine
+    raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
+                           f"{options.fold_tol:g} after {options.max_refinements} refinements "
+                           f"(last change {change:.2e})")

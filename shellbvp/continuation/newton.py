@@ -1,0 +1,135 @@
+"""Bordered Newton on a discrete system and its exact branch tangent.
+
+Everything in continuation and fold location is linear algebra on the bordered matrix
+
+    A = [[dR/dU, dR/dp], [alpha dm/dU + row, beta]],
+
+whose last row is one scalar condition alpha m(U) + row . U + beta p = c: beta = 0
+prescribes the monitor m, alpha = 0 (row = 0) the parameter, and row = tau_U with
+beta = tau_p is the pseudo-arclength condition. dR/dU may be dense or scipy.sparse.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sps
+import scipy.sparse.linalg as spla
+
+from ..errors import ConvergenceError
+
+__all__ = ["NewtonResult", "newton", "tangent", "FAIL_CONTRACTION"]
+
+#: a corrector whose update is not at least this factor smaller than the previous one is
+#: outside its basin: fail fast, so the continuation retries with a shorter step
+FAIL_CONTRACTION = 0.5
+
+
+class _Factor:
+    """LU of the bordered matrix, dense or sparse."""
+
+    def __init__(self, A):
+        if sps.issparse(A):
+            try:
+                self._lu = spla.splu(A.tocsc())
+            except RuntimeError as exc:          # "Factor is exactly singular"
+                raise np.linalg.LinAlgError(str(exc)) from None
+            self.solve = self._lu.solve
+        else:
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", sla.LinAlgWarning)
+                try:
+                    lu = sla.lu_factor(A, check_finite=False)
+                except sla.LinAlgWarning as exc:
+                    raise np.linalg.LinAlgError(str(exc)) from None
+            self.solve = lambda b: sla.lu_solve(lu, b, check_finite=False)
+
+
+def _bordered(J, Rp, last_row, beta):
+    if sps.issparse(J):
+        return sps.bmat([[J, sps.csc_matrix(Rp[:, None])],
+                         [sps.csc_matrix(last_row[None, :]), beta]], format="csc")
+    n = J.shape[0]
+    A = np.empty((n + 1, n + 1))
+    A[:-1, :-1], A[:-1, -1], A[-1, :-1], A[-1, -1] = J, Rp, last_row, beta
+    return A
+
+
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of :func:`newton`: the iterate, the monitor there, ``ok``, the iteration
+    count, the history of (max |residual|, relative update) per iteration (or the reason it
+    stopped) and the factorisation of the bordered matrix at the last iterate."""
+
+    U: np.ndarray = field(repr=False)
+    p: float
+    m: float
+    ok: bool
+    iterations: int
+    history: list = field(repr=False)
+    factor: object = field(repr=False, default=None)
+    gm: np.ndarray = field(repr=False, default=None)
+
+
+def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
+           fail_fast: bool = True) -> NewtonResult:
+    """Bordered Newton on R(U, p) = 0, alpha m(U) + row . U + beta p = c (row optional).
+
+    Converged when the update is below ``tol`` relative to the unknowns. Returns
+    ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
+    iterations, growing updates, or - with ``fail_fast`` - an update not at least
+    ``FAIL_CONTRACTION`` times the one before; the caller decides what to do.
+    """
+    U = np.array(U, dtype=float)
+    p = float(p)
+    history = []
+    fac = gm = None
+    m = math.nan
+    for it in range(1, maxiter + 1):
+        try:
+            R, J, Rp = system.evaluate(U, p)
+        except ConvergenceError as exc:     # e.g. the inner constitutive Newton, wild iterate
+            history.append(("inner", str(exc)))
+            return NewtonResult(U, p, m, False, it, history, fac, gm)
+        m, gm = system.monitor(U)
+        last = alpha * gm + (0.0 if row is None else row)
+        r = np.append(R, alpha * m + beta * p - c + (0.0 if row is None else float(row @ U)))
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(Rp))
+                and np.all(np.isfinite(J.data if sps.issparse(J) else J))):
+            history.append(("non-finite", it))
+            return NewtonResult(U, p, m, False, it, history, fac, gm)
+        try:
+            fac = _Factor(_bordered(J, Rp, last, beta))
+        except np.linalg.LinAlgError:       # exactly singular: a fold in the prescribed quantity
+            history.append(("singular", it))
+            return NewtonResult(U, p, m, False, it, history, None, gm)
+        d = fac.solve(r)
+        U -= d[:-1]
+        p -= d[-1]
+        step = max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
+                   abs(d[-1]) / (1.0 + abs(p)))
+        history.append((float(np.max(np.abs(r))), step))
+        if step <= tol:
+            m, gm = system.monitor(U)
+            return NewtonResult(U, p, m, True, it, history, fac, gm)
+        if fail_fast and it >= 2 and step > FAIL_CONTRACTION * history[-2][1]:
+            break
+        if it >= 4 and history[-1][1] > history[-2][1] > history[-3][1]:
+            break   # the updates grow: diverging
+    return NewtonResult(U, p, m, False, len(history), history, fac, gm)
+
+
+def tangent(res: NewtonResult):
+    """The branch direction at a converged result: A [v; dp] = [0; 1] with its bordered
+    matrix (factored at the last iterate, within O(tol) of the solution). Returns
+    (v, dm, dp) with dm = dm/dU . v; with the monitor prescribed (beta = 0, alpha = 1) this
+    is (dU/dm, 1, dp/dm) up to the normalisation, exactly."""
+    rhs = np.zeros(res.U.size + 1)
+    rhs[-1] = 1.0
+    x = res.factor.solve(rhs)
+    v, dp = x[:-1], x[-1]
+    return v, float(res.gm @ v), float(dp)

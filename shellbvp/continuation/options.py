@@ -1,0 +1,69 @@
+"""Step control and tolerances of continuation and fold location: the one source of defaults."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+__all__ = ["ContinuationOptions"]
+
+
+@dataclass(frozen=True)
+class ContinuationOptions:
+    """Pseudo-arclength continuation settings (checked: 0 < ds_min <= ds <= ds_max).
+
+    Steps are arclengths in the space (U, p) with the RMS norm of U (``U`` the discrete
+    unknowns: shapes in R0, moment and forces scaled by 12/h^2), so ds = 1 is a change of
+    about one R0 in shape or one unit in the parameter.
+
+    Attributes:
+        ds, ds_min, ds_max: first, smallest and largest step.
+        max_steps: points per branch at most.
+        turn: target turning angle of the tangent per step (radians): the step grows or
+            shrinks (within a factor 2 per step) to keep it.
+        contraction: target ratio of the second to the first Newton update (a step whose
+            corrector contracts worse than this is shortened next time).
+        newton_tol: the corrector stops when the update is below this relative to the
+            unknowns (quadratic convergence: the point is then good to ~newton_tol^2).
+        newton_maxiter: corrector iterations at most.
+        fold_tol: every fold is refined (the method's ladder of finer discretisations)
+            until its parameter changes by at most this; the change is its error estimate.
+        max_refinements: rungs of that ladder at most (then a ConvergenceError).
+    """
+
+    ds: float = 0.5
+    ds_min: float = 1e-5
+    ds_max: float = 2.0
+    max_steps: int = 400
+    turn: float = 0.3
+    contraction: float = 0.05
+    newton_tol: float = 1e-7
+    newton_maxiter: int = 15
+    fold_tol: float = 1e-9
+    max_refinements: int = 30
+
+    def __post_init__(self):
+        if not all(math.isfinite(v) for v in (self.ds, self.ds_min, self.ds_max)) or not (
+                0 < self.ds_min <= self.ds <= self.ds_max):
+            raise ValueError(f"steps must satisfy 0 < ds_min <= ds <= ds_max, got ds_min = "
+                             f"{self.ds_min}, ds = {self.ds}, ds_max = {self.ds_max}")
+        for name in ("newton_tol", "fold_tol", "contraction"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and 0 < v < 1):
+                raise ValueError(f"{name} must lie in (0, 1), got {v!r}")
+        if not (0 < self.turn <= math.pi / 2):
+            raise ValueError(f"turn must lie in (0, pi/2], got {self.turn!r}")
+        for name, lo in (("max_steps", 2), ("newton_maxiter", 2), ("max_refinements", 1)):
+            v = getattr(self, name)
+            if not (isinstance(v, int) and v >= lo):
+                raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+
+    @classmethod
+    def to_first_fold(cls, fold_tol: float = 1e-9) -> "ContinuationOptions":
+        """Long steps for a computation that needs only the first fold (kappa_s): the step
+        control shortens them where the branch turns, and the fold is located exactly
+        afterwards, so long steps cost no accuracy."""
+        return cls(ds=5.0, ds_max=100.0, fold_tol=fold_tol)
+
+    def with_(self, **changes) -> "ContinuationOptions":
+        return replace(self, **changes)

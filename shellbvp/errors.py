@@ -1,0 +1,15 @@
+"""Failure vocabulary: the exception every solver raises when it does not converge.
+
+A solver never returns an unconverged answer as if it were good: it raises
+:class:`ConvergenceError` (or, with ``throw=False``, returns a result whose ``success`` is
+False and whose ``message`` says what failed and what to change).
+"""
+
+from __future__ import annotations
+
+__all__ = ["ConvergenceError"]
+
+
+class ConvergenceError(RuntimeError):
+    """A solver did not converge. The message says where (parameter value, position on the
+    meridian) and what to try (a smaller step, a finer discretisation, a closer guess)."""

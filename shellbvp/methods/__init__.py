@@ -1,0 +1,36 @@
+"""Discretisations of the shell BVP behind one protocol (:mod:`shellbvp.methods.base`).
+
+====================  ==========================================================
+``Chebyshev(nodes)``  spectral collocation, geometric convergence (the default)
+``Shooting(...)``     multiple shooting with diffrax (Tsit5, exact sensitivities)
+``Collocation(tol)``  scipy's solve_bvp scheme (4th order; solve_bvp's own mesh)
+====================  ==========================================================
+
+The strings ``"spectral"``, ``"shooting"`` and ``"collocation"`` are shortcuts for the
+defaults of each (used by the command line).
+"""
+
+from __future__ import annotations
+
+from .base import DiscreteSystem, Method, NodalSystem
+from .chebyshev import Chebyshev
+from .collocation import Collocation
+from .shooting import Shooting
+
+__all__ = ["Chebyshev", "Shooting", "Collocation", "METHODS", "as_method", "DiscreteSystem",
+           "Method", "NodalSystem"]
+
+METHODS = {"spectral": Chebyshev, "shooting": Shooting, "collocation": Collocation}
+
+
+def as_method(method) -> Method:
+    """A method object from a method object or one of the names in ``METHODS``."""
+    if isinstance(method, str):
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {tuple(METHODS)} or a method object, "
+                             f"got {method!r}")
+        return METHODS[method]()
+    if not hasattr(method, "discretise"):
+        raise ValueError(f"method must be one of {tuple(METHODS)} or a method object "
+                         f"(Chebyshev, Shooting, Collocation), got {type(method).__name__}")
+    return method

@@ -1,0 +1,194 @@
+"""Multiple shooting with diffrax: an independent check of the collocation methods.
+
+Every piece is cut into the same number of equal segments (so interfaces are segment
+boundaries and the fields are smooth inside every segment). The unknowns are the states at
+the segment starts and the state at the edge, U = (U_0, ..., U_{n-1}, y_edge); the residual
+collects the BVP's boundary conditions (pole and edge, 6 rows) and the continuity
+flow_j(U_j) = U_{j+1} (6 n rows, which include the exact interfaces). The Jacobian is exact
+and block-bidiagonal: the 6x6 sensitivity of each segment's flow map comes from forward-mode
+differentiation through the ODE solver (``diffrax.ForwardMode``), vmapped over segments, so
+one small program is compiled instead of one per segment.
+
+ODE solver: ``diffrax.Tsit5`` (5th order) with a PID controller at rtol = atol = ``rtol``,
+or a fixed number of steps per segment (``steps``) for convergence-order studies.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import ConvergenceError
+
+__all__ = ["Shooting", "ShootingSystem"]
+
+#: save points per segment for the dense output (cubic Hermite between them)
+SAVE_PER_SEGMENT = 17
+#: the refinement ladder divides rtol by this per rung
+RTOL_STEP = 10.0
+#: an ODE solve with more steps than this on one segment is a failure, not a result
+MAX_ODE_STEPS = 100_000
+
+
+@dataclass(frozen=True)
+class Shooting:
+    """Multiple shooting with ``segments`` segments in all (at least one per piece), Tsit5 at
+    rtol = atol = ``rtol`` (adaptive), or ``steps`` fixed steps per segment."""
+
+    segments: int = 16
+    rtol: float = 1e-10
+    steps: int | None = None
+    name = "shooting"
+
+    def __post_init__(self):
+        if not (isinstance(self.segments, (int, np.integer)) and 1 <= self.segments <= 4096):
+            raise ValueError(f"segments must be an integer in [1, 4096], got {self.segments!r}")
+        if not (isinstance(self.rtol, float) and 1e-15 < self.rtol < 1e-2):
+            raise ValueError(f"rtol must be a float in (1e-15, 1e-2), got {self.rtol!r}")
+        if self.steps is not None and not (isinstance(self.steps, (int, np.integer))
+                                           and self.steps >= 1):
+            raise ValueError(f"steps must be a positive integer or None, got {self.steps!r}")
+
+    def discretise(self, bvp) -> "ShootingSystem":
+        return ShootingSystem(bvp, self.segments, self.rtol, self.steps)
+
+
+@lru_cache(maxsize=32)
+def _compiled(vector_field, adaptive):
+    import diffrax
+
+    from ..jaxsetup import jax
+
+    import jax.numpy as jnp
+
+    def solve_segment(piece, y0, s0, s1, p, lam, h, tol, saveat):
+        # ``tol`` is the PID tolerance (adaptive) or the number of fixed steps (not adaptive);
+        # both are traced, so changing them does not recompile.
+        def vf(s, y, args):
+            return vector_field(piece, s, y, p, lam, h)
+
+        if adaptive:
+            ctrl, dt0 = diffrax.PIDController(rtol=tol, atol=tol), (s1 - s0) / 8
+        else:
+            ctrl, dt0 = diffrax.ConstantStepSize(), (s1 - s0) / tol
+        return diffrax.diffeqsolve(
+            diffrax.ODETerm(vf), diffrax.Tsit5(), s0, s1, dt0, y0, stepsize_controller=ctrl,
+            saveat=saveat, max_steps=MAX_ODE_STEPS, adjoint=diffrax.ForwardMode(),
+            throw=False)
+
+    def flow(y0, piece, s0, s1, p, lam, h, tol):
+        return solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(t1=True)).ys[-1]
+
+    def flow_and_sens(piece, y0, s0, s1, p, lam, h, tol):
+        # sensitivities to the initial state and to the parameter (forward mode)
+        return (flow(y0, piece, s0, s1, p, lam, h, tol),
+                *jax.jacfwd(flow, argnums=(0, 4))(y0, piece, s0, s1, p, lam, h, tol))
+
+    def dense(piece, y0, s0, s1, p, lam, h, tol):
+        ts = s0 + (s1 - s0) * jnp.linspace(0.0, 1.0, SAVE_PER_SEGMENT)
+        ys = solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(ts=ts)).ys
+        fs = jax.vmap(lambda s, y: vector_field(piece, s, y, p, lam, h))(ts, ys)
+        return ts, ys, fs
+
+    ax = (0, 0, 0, 0, None, None, None, None)
+    return jax.jit(jax.vmap(flow_and_sens, in_axes=ax)), jax.jit(jax.vmap(dense, in_axes=ax))
+
+
+class ShootingSystem:
+    """Multiple shooting of a BVP as a finite system R(U, p) = 0 (6 (n + 1) unknowns)."""
+
+    def __init__(self, bvp, segments: int, rtol: float = 1e-10, steps: int | None = None):
+        self.bvp = bvp
+        per_piece = max(1, int(math.ceil(segments / bvp.P)))
+        edges = [np.linspace(bvp.a[i], bvp.b[i], per_piece + 1) for i in range(bvp.P)]
+        self.s0 = np.concatenate([e[:-1] for e in edges])
+        self.s1 = np.concatenate([e[1:] for e in edges])
+        self.piece = np.repeat(np.arange(bvp.P), per_piece)
+        self.per_piece, self.n, self.segments = per_piece, self.s0.size, segments
+        self.size = 6 * (self.n + 1)
+        self.rtol, self.steps = rtol, steps
+        self._tol = rtol if steps is None else float(steps)
+        self._flow, self._dense = _compiled(bvp.vector_field(), steps is None)
+        self.evaluations = 0
+
+    def _args(self, p):
+        return (float(p), self.bvp.material_parameter, self.bvp.scene.h)
+
+    def from_profile(self, profile) -> np.ndarray:
+        y = np.asarray(profile(np.append(self.s0, self.bvp.b[-1])), dtype=float)
+        return y.T.ravel()
+
+    def evaluate(self, U, p):
+        n = self.n
+        Y = np.asarray(U, dtype=float).reshape(n + 1, 6)
+        ends, sens, sens_p = (np.asarray(a) for a in self._flow(
+            self.piece, Y[:-1], self.s0, self.s1, *self._args(p), self._tol))
+        rb, Ja, Jb, Jpb = self.bvp.boundary(Y[0], Y[-1], p)
+        self.evaluations += 1
+        R = np.empty(self.size)
+        J = np.zeros((self.size, self.size))
+        Rp = np.zeros(self.size)
+        R[:6], J[:6, :6], J[:6, -6:], Rp[:6] = rb, Ja, Jb, Jpb
+        for j in range(n):  # continuity: flow_j(U_j) - U_{j+1} (U_n = y_edge)
+            rows = slice(6 + 6 * j, 12 + 6 * j)
+            R[rows] = ends[j] - Y[j + 1]
+            J[rows, 6 * j:6 * j + 6] = sens[j]
+            J[rows, 6 * j + 6:6 * j + 12] = -np.eye(6)
+            Rp[rows] = sens_p[j]
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J)) and np.all(np.isfinite(Rp))):
+            raise ConvergenceError(
+                f"shooting: non-finite residual ({self.bvp.scene.parameter} = {p:g}); the ODE "
+                f"solver or the inner Newton failed on a segment - use more segments or a "
+                f"closer guess")
+        return R, J, Rp
+
+    def monitor(self, U):
+        Y = np.asarray(U, dtype=float).reshape(self.n + 1, 6)
+        m, ga, gb = self.bvp.monitor(Y[0], Y[-1])
+        g = np.zeros((self.n + 1, 6))
+        g[0] += ga
+        g[-1] += gb
+        return m, g.ravel()
+
+    def dense(self, U, p):
+        """Stacked (6 P, n) cubic Hermite interpolant in the piece coordinate t."""
+        from scipy.interpolate import CubicHermiteSpline
+
+        bvp = self.bvp
+        Y = np.asarray(U, dtype=float).reshape(self.n + 1, 6)
+        ts, ys, fs = (np.asarray(a) for a in self._dense(
+            self.piece, Y[:-1], self.s0, self.s1, *self._args(p), self._tol))
+        splines = []
+        for i in range(bvp.P):
+            sel = np.flatnonzero(self.piece == i)
+            cat = lambda a: np.concatenate([a[j] if k == 0 else a[j][1:]  # noqa: E731
+                                            for k, j in enumerate(sel)])
+            splines.append(CubicHermiteSpline(cat(ts), cat(ys), cat(fs), axis=0))
+
+        def dense_t(t):
+            t = np.atleast_1d(np.asarray(t, dtype=float))
+            return np.concatenate([splines[i](bvp.s_of(i, t)).T for i in range(bvp.P)])
+
+        return dense_t
+
+    def nodes(self, U, p):
+        """Stacked values (6 P, n) at the saved points of every segment (piece coordinate)."""
+        t = np.linspace(0.0, 1.0, self.per_piece * (SAVE_PER_SEGMENT - 1) + 1)
+        return t, self.dense(U, p)(t)
+
+    def refined(self) -> "ShootingSystem":
+        if self.steps is not None:
+            return ShootingSystem(self.bvp, self.segments, steps=2 * self.steps)
+        return ShootingSystem(self.bvp, self.segments, self.rtol / RTOL_STEP)
+
+    def transfer(self, U, p, other) -> np.ndarray:
+        if other.n != self.n:
+            return other.from_profile(self.bvp.profile(self.dense(U, p)))
+        return np.array(U, dtype=float)
+
+    def describe(self) -> dict:
+        return {"method": "shooting", "segments": self.n,
+                "rtol": self.rtol if self.steps is None else None, "steps": self.steps}

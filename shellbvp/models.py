@@ -1,0 +1,12 @@
+"""Names of the reduced models and materials (a light module: no sympy, no JAX).
+
+``plane_strain``: rho1 = 1, rho2 = 0; ``relaxed``: rho1, rho2 minimising the stretching
+and bending energies (paper Sections 2-4). Materials: ``cg`` (compressible
+Ciarlet-Geymonat, parameter lam = lambda*/mu*), ``nh`` (incompressible neo-Hookean) and
+``koiter`` (the morphoelastic Koiter reference shell, Poisson ratio nu).
+"""
+
+MODELS = ("plane_strain", "relaxed")
+MATERIALS = ("cg", "nh", "koiter")
+
+__all__ = ["MODELS", "MATERIALS"]

@@ -1,0 +1,217 @@
+"""Results: an equilibrium, a fold, a branch. Frozen, with error estimates and statistics,
+and keeping their discrete states so that shapes and strains need no re-solve.
+
+Units everywhere: lengths in R0; curvatures in 1/R0; the meridional moment M and the force
+multipliers F_r, F_z per mu* h0 R0 per radian of azimuth (the BVP's unknowns m, f_r, f_z are
+12/h^2 times these); energies per mu* h0 R0^2.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from .cache import atomic_write_text
+from .errors import ConvergenceError
+from .scene import Scene
+
+__all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """An axisymmetric equilibrium.
+
+    Attributes:
+        scene, p: the problem and its parameter value (e.g. kappa in 1/R0).
+        s: nodes (meridional angle of the reference sphere, from the pole offset eps).
+        r, z, theta: current meridian (z relative to the apex) and tangent angle.
+        lam1, lam2: stretches relative to the target metric; k1, k2: principal curvatures.
+        eps11, eps22: elastic mid-surface strains (a_aa - abar_aa) / (2 abar_aa)
+            = (lam_a^2 - 1) / 2, relative to the target metric.
+        M, F_r, F_z: meridional moment and force multipliers (see the module docstring).
+        energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) = 2 pi int W dA_target,
+            split into the w_s and h^2/12 w_b parts.
+        w: the BVP's observable in R0 (free edge: vertical displacement of the edge relative
+            to the apex; clamped edge: of the apex relative to the edge, positive along +z).
+        error_estimate: max change of (r, z, theta) and of w on the next finer
+            discretisation (``nan`` when not requested).
+        stats: solver statistics (method, resolution, iterations, wall time).
+        success, message: convergence flag and message.
+
+    Calling ``eq(s)`` gives (r, z, theta, M, F_r, F_z) at any s (shape (6, len(s))), in the
+    units of the attributes; :meth:`unknowns` gives the BVP's unknowns (a guess for another
+    solve).
+    """
+
+    scene: Scene = field(repr=False)
+    p: float
+    s: np.ndarray = field(repr=False)
+    r: np.ndarray = field(repr=False)
+    z: np.ndarray = field(repr=False)
+    theta: np.ndarray = field(repr=False)
+    lam1: np.ndarray = field(repr=False)
+    lam2: np.ndarray = field(repr=False)
+    k1: np.ndarray = field(repr=False)
+    k2: np.ndarray = field(repr=False)
+    eps11: np.ndarray = field(repr=False)
+    eps22: np.ndarray = field(repr=False)
+    M: np.ndarray = field(repr=False)
+    F_r: np.ndarray = field(repr=False)
+    F_z: np.ndarray = field(repr=False)
+    energy: float
+    stretching_energy: float
+    bending_energy: float
+    w: float
+    error_estimate: float
+    stats: dict = field(repr=False)
+    success: bool
+    message: str
+    z_apex: float = field(repr=False, default=0.0)
+    profile: Any = field(repr=False, compare=False, default=None)
+
+    def unknowns(self, s):
+        """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
+        BVP's frame, apex at z = 0 for the reference cap): a guess for another solve."""
+        if not self.success:
+            raise ConvergenceError(f"this equilibrium did not converge: {self.message}")
+        return self.profile(s)
+
+    def __call__(self, s):
+        y = np.array(self.unknowns(s), dtype=float)
+        y[1] -= self.z_apex
+        y[3:] *= self.scene.h**2 / 12
+        return y
+
+
+def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
+    """The :class:`Equilibrium` of a converged discrete solution U at p."""
+    bvp = system.bvp
+    sc = bvp.scene
+    t, Ys = system.nodes(U, p)
+    Y = Ys.reshape(bvp.P, 6, t.size)
+    s_all = np.stack([bvp.s_of(i, t) for i in range(bvp.P)])
+    X, _ = bvp.state(s_all, Y, p)
+    keep = [slice(None) if i == 0 else slice(1, None) for i in range(bvp.P)]  # interfaces once
+    s = np.concatenate([s_all[i, k] for i, k in enumerate(keep)])
+    y = np.concatenate([Y[i][:, k] for i, k in enumerate(keep)], axis=1)
+    X = np.concatenate([X[i][:, k] for i, k in enumerate(keep)], axis=1)
+    dense_t = system.dense(U, p)
+    z_apex = y[1, 0] + y[0, 0] * y[2, 0] / 2     # z(0) from the regular series at eps
+    m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
+    Es, Eb = bvp.energies(dense_t, p)
+    scale = sc.h**2 / 12
+    return Equilibrium(
+        scene=sc, p=float(p), s=s, r=y[0], z=y[1] - z_apex, theta=y[2], lam1=X[0], lam2=X[1],
+        k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2, eps22=(X[1] ** 2 - 1) / 2,
+        M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb,
+        stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.rise),
+        error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
+        message="converged", z_apex=float(z_apex), profile=bvp.profile(dense_t))
+
+
+def failed_equilibrium(scene, p, message, stats) -> Equilibrium:
+    """The result of a solve that did not converge (``success=False``; ``throw=False``)."""
+    e = np.array([])
+    nan = math.nan
+    return Equilibrium(scene=scene, p=float(p), s=e, r=e, z=e, theta=e, lam1=e, lam2=e, k1=e,
+                       k2=e, eps11=e, eps22=e, M=e, F_r=e, F_z=e, energy=nan,
+                       stretching_energy=nan, bending_energy=nan, w=nan, error_estimate=nan,
+                       stats=stats, success=False, message=message)
+
+
+@dataclass(frozen=True)
+class Fold:
+    """A fold (limit point) of a branch in its parameter.
+
+    Attributes:
+        p: the parameter there (kappa_s R0 for the snap of a cap).
+        w: the observable there, in R0; ``monitor`` = w / H.
+        error_estimate: change of p on the last rung of the refinement ladder (``nan`` for
+            a fold located on one discretisation only).
+        index: the branch point after which it lies (-1 when not part of a branch).
+        bracket: the monitor interval it was searched in.
+        stats: location statistics (solves, iterations, refinements, resolution, time).
+    ``fold.equilibrium`` is the full state there (built on demand).
+    """
+
+    p: float
+    monitor: float
+    U: np.ndarray = field(repr=False)
+    system: Any = field(repr=False, compare=False)
+    bracket: tuple = ()
+    error_estimate: float = math.nan
+    index: int = -1
+    stats: dict = field(repr=False, default_factory=dict)
+
+    @property
+    def w(self) -> float:
+        return float(self.monitor * self.system.bvp.rise)
+
+    @property
+    def equilibrium(self) -> Equilibrium:
+        return equilibrium_from(self.system, self.U, self.p, stats=self.stats,
+                                error_estimate=self.error_estimate)
+
+    def with_estimate(self, error_estimate, *, index=None, stats=None) -> "Fold":
+        return replace(self, error_estimate=float(error_estimate),
+                       index=self.index if index is None else index,
+                       stats=self.stats if stats is None else stats)
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A continuation diagram (arrays over the points, in order of arclength).
+
+    Attributes:
+        p: parameter values; w: the observable (R0; see :class:`Equilibrium`).
+        energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) (nan when not computed).
+        arclength: in the (w / H, p) plane, H the rise 1 - cos theta.
+        folds: the folds passed, refined (:class:`Fold`).
+        stats: method, resolution, points, evaluations, wall time.
+    ``branch.equilibrium(i)`` is the full state at point i (built on demand).
+    """
+
+    scene: Scene = field(repr=False)
+    p: np.ndarray
+    w: np.ndarray
+    energy: np.ndarray = field(repr=False)
+    stretching_energy: np.ndarray = field(repr=False)
+    bending_energy: np.ndarray = field(repr=False)
+    arclength: np.ndarray = field(repr=False)
+    folds: tuple
+    stats: dict = field(repr=False)
+    points: tuple = field(repr=False, compare=False, default=())
+    system: Any = field(repr=False, compare=False, default=None)
+
+    def equilibrium(self, i: int) -> Equilibrium:
+        """The equilibrium at point i of the branch."""
+        if not -len(self.points) <= i < len(self.points):
+            raise ValueError(f"i must index the branch's {len(self.points)} points, got {i!r}")
+        pt = self.points[i]
+        return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats)
+
+    def rows(self):
+        """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order."""
+        out = [(self.p[i], self.w[i], self.energy[i], self.stretching_energy[i],
+                self.bending_energy[i], self.arclength[i], 0) for i in range(self.p.size)]
+        for f in sorted(self.folds, key=lambda f: f.index, reverse=True):
+            i = f.index
+            s = 0.5 * (self.arclength[i] + self.arclength[min(i + 1, self.p.size - 1)])
+            out.insert(i + 1, (f.p, f.w, math.nan, math.nan, math.nan, s, 1))
+        return out
+
+    def to_csv(self, path) -> None:
+        """Write the diagram to ``path`` atomically; units are in the column names."""
+        buf = io.StringIO()
+        wr = csv.writer(buf, lineterminator="\n")
+        wr.writerow([f"{self.scene.parameter}_R0", "w_over_R0", "energy", "stretching_energy",
+                     "bending_energy", "arclength", "is_fold"])
+        for r in self.rows():
+            wr.writerow([repr(float(v)) for v in r[:6]] + [int(r[6])])
+        atomic_write_text(path, buf.getvalue())

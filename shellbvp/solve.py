@@ -1,0 +1,197 @@
+"""Public entry points: one equilibrium (:func:`solve`), a branch with its folds
+(:func:`follow`), and the branch point where the observable takes a value
+(:func:`at_monitor`). Each takes a method object (or its name) and returns a result of
+:mod:`shellbvp.results`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .bvp import ShellBVP, reference_state
+from .continuation import ContinuationOptions, newton, pseudo_arclength, refine_fold, tangent
+from .errors import ConvergenceError
+from .methods import as_method
+from .results import Branch, Equilibrium, equilibrium_from, failed_equilibrium
+from .scene import Scene
+
+__all__ = ["solve", "follow", "at_monitor", "MonitorPoint", "SOLVE_NEWTON_TOL"]
+
+#: Newton on a discrete system at fixed p stops at this relative update (quadratic
+#: convergence: the residual left is ~1e-20)
+SOLVE_NEWTON_TOL = 1e-10
+SOLVE_MAXITER = 40
+
+
+def _check_p(scene, p):
+    if np.ndim(p) != 0 or not np.isfinite(p):
+        raise ValueError(f"{scene.parameter} must be a finite scalar, got {p!r}")
+
+
+def _profile_of(guess):
+    if guess is None:
+        return reference_state
+    if isinstance(guess, Equilibrium):
+        return guess.unknowns
+    if not callable(guess):
+        raise ValueError(f"guess must be an Equilibrium or a callable s -> (6, n), got "
+                         f"{type(guess).__name__}")
+    return guess
+
+
+def _newton_at(system, U, p, what):
+    res = newton(system, U, p, 0.0, 1.0, p, tol=SOLVE_NEWTON_TOL, maxiter=SOLVE_MAXITER,
+                 fail_fast=False)
+    if not res.ok:
+        raise ConvergenceError(f"{what}: Newton did not converge at {system.bvp.scene.parameter}"
+                               f" = {p:g} ({system.describe()}); history (|residual|, "
+                               f"|update|): {res.history}; try a closer guess")
+    return res
+
+
+def _discrete_solve(method, bvp, p, profile):
+    if hasattr(method, "solve"):          # a method with its own solver (solve_bvp)
+        return method.solve(bvp, p, profile)
+    system = method.discretise(bvp)
+    res = _newton_at(system, system.from_profile(profile), p, method.name)
+    return system, res.U, dict(newton_iterations=res.iterations, newton_history=res.history)
+
+
+def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float | None = None,
+          estimate_error: bool = True, throw: bool = True) -> Equilibrium:
+    """The axisymmetric equilibrium of ``scene`` at parameter value ``p``.
+
+    Arguments:
+        scene: the problem (geometry, stimulus, material, boundary conditions).
+        p: value of ``scene.parameter`` (e.g. kappa, in 1/R0).
+        method: ``Chebyshev(nodes=...)`` (default ``"spectral"``), ``Shooting(...)`` or
+            ``Collocation(tol=...)`` (scipy's solve_bvp with its adaptive mesh), or a name.
+        guess: an :class:`Equilibrium` (e.g. at a nearby p) or a callable s -> (6, n) of
+            the BVP's unknowns; default the undeformed cap.
+        eps: pole offset (default ``POLE_OFFSET * theta``).
+        estimate_error: also solve on the method's next finer discretisation and report
+            the largest change of (r, z, theta) and of w as ``error_estimate``.
+        throw: raise on failure (else return ``success=False`` with the message).
+
+    Returns:
+        :class:`Equilibrium`.
+
+    Raises:
+        ValueError: bad arguments. ConvergenceError: no convergence (with diagnostics).
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
+    _check_p(scene, p)
+    method = as_method(method)
+    profile = _profile_of(guess)
+    bvp = ShellBVP(scene, eps)
+    t0 = time.perf_counter()
+    try:
+        system, U, stats = _discrete_solve(method, bvp, float(p), profile)
+        err = math.nan
+        if estimate_error:
+            fine = system.refined()
+            Uf = _newton_at(fine, system.transfer(U, p, fine), p, "error estimate").U
+            s = np.concatenate([bvp.s_of(i, np.linspace(0, 1, 65)) for i in range(bvp.P)])
+            a, b = bvp.profile(system.dense(U, p)), bvp.profile(fine.dense(Uf, p))
+            err = max(float(np.max(np.abs(a(s)[:3] - b(s)[:3]))),
+                      abs(fine.monitor(Uf)[0] - system.monitor(U)[0]) * bvp.rise)
+    except ConvergenceError as exc:
+        if throw:
+            raise
+        return failed_equilibrium(scene, p, str(exc), {"method": method.name})
+    stats = dict(stats, **system.describe(), evaluations=bvp.evaluations,
+                 wall_time=time.perf_counter() - t0)
+    return equilibrium_from(system, U, p, stats=stats, error_estimate=err)
+
+
+def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
+           p_stop=(-math.inf, math.inf), w_stop=(-math.inf, math.inf), n_folds=None,
+           options: ContinuationOptions | None = None, eps: float | None = None,
+           progress=None, energies: bool = True) -> Branch:
+    """Continue ``scene`` in its parameter from the undeformed state at p0.
+
+    Pseudo-arclength continuation (:mod:`shellbvp.continuation`) of the method's discrete
+    system; every fold passed is located exactly (dp/dw = 0) and refined on the method's
+    ladder of finer discretisations until p changes by at most ``options.fold_tol``, the
+    change being its error estimate.
+
+    Stops when p leaves ``p_stop``, w leaves ``w_stop`` (R0), after ``n_folds`` folds or at
+    ``options.max_steps`` points. ``energies=False`` skips the energy columns (nan).
+    ``progress(point)`` is called after every point. Raises ValueError for bad arguments and
+    ConvergenceError on failure.
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
+    _check_p(scene, p0)
+    options = ContinuationOptions() if options is None else options
+    if not isinstance(options, ContinuationOptions):
+        raise ValueError(f"options must be a ContinuationOptions, got {type(options).__name__}")
+    t0 = time.perf_counter()
+    bvp = ShellBVP(scene, eps)
+    system = as_method(method).discretise(bvp)
+    H = bvp.rise
+    pts, brackets = pseudo_arclength(
+        system, system.from_profile(bvp.reference), float(p0), options=options, p_stop=p_stop,
+        monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds, progress=progress)
+    folds = tuple(refine_fold(system, pts[i], pts[j], options=options, index=i)
+                  for i, j in brackets)
+    if energies:
+        E = np.array([bvp.energies(system.dense(pt.U, pt.p), pt.p) for pt in pts])
+    else:
+        E = np.full((len(pts), 2), math.nan)
+    return Branch(scene=scene, p=np.array([pt.p for pt in pts]),
+                  w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
+                  stretching_energy=E[:, 0], bending_energy=E[:, 1],
+                  arclength=np.array([pt.arclength for pt in pts]), folds=folds,
+                  stats=dict(system.describe(), points=len(pts), evaluations=bvp.evaluations,
+                             wall_time=time.perf_counter() - t0),
+                  points=tuple(pts), system=system)
+
+
+@dataclass(frozen=True)
+class MonitorPoint:
+    """The branch where its observable takes a prescribed value.
+
+    ``p``: the parameter there; ``w``: the prescribed observable (R0); ``dp_dw``: the slope
+    dp/dw there (exact, from the bordered Jacobian; 1/R0^2 for kappa), negative between a
+    fold pair; ``resolution``: the discretisation used.
+    """
+
+    p: float
+    w: float
+    dp_dw: float
+    resolution: dict
+
+
+def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
+               eps: float | None = None,
+               options: ContinuationOptions | None = None) -> MonitorPoint:
+    """Follow the branch from the undeformed state at p0 until w (R0) is first reached, and
+    solve there with w prescribed and the parameter unknown.
+
+    Raises ValueError for a non-finite w and ConvergenceError if the branch does not reach w.
+    """
+    if not math.isfinite(w):
+        raise ValueError(f"w must be finite, got {w!r}")
+    bvp = ShellBVP(scene, eps)
+    system = as_method(method).discretise(bvp)
+    target = w / bvp.rise
+    pts, _ = pseudo_arclength(system, system.from_profile(bvp.reference), float(p0),
+                              options=options or ContinuationOptions.to_first_fold(),
+                              monitor_stop=(-math.inf, target))
+    if pts[-1].monitor < target:
+        raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
+                               f"{pts[-1].monitor * bvp.rise:.6g})")
+    q = min(pts[-2:], key=lambda q: abs(q.monitor - target))
+    dUdm, dpdm = q.dU / q.tangent[0], q.tangent[1] / q.tangent[0]
+    res = newton(system, q.U + (target - q.monitor) * dUdm, q.p + (target - q.monitor) * dpdm,
+                 1.0, 0.0, target, tol=SOLVE_NEWTON_TOL)
+    if not res.ok:
+        raise ConvergenceError(f"no solution with w = {w:g} prescribed: {res.history}")
+    _, _, slope = tangent(res)
+    return MonitorPoint(p=res.p, w=w, dp_dw=slope / bvp.rise, resolution=system.describe())
