@@ -103,7 +103,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         return X, F, ok
 
     def boundary(ya, yb, p, eps, theta, lam, h):
-        _, X, ok = pf["algebraic"](ya, eps, fields_at(0, eps, p), lam, h)
+        F0 = fields_at(0, eps, p)
+        _, X, ok = pf["algebraic"](ya, eps, F0, lam, h)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         start = jnp.stack([X[0] - X[1], X[2] - X[3], third])
         if edge == "free":
@@ -111,13 +112,13 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         else:
             end = jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
                              yb[2] - theta])
-        return jnp.concatenate([start, end]), ok
+        return jnp.concatenate([start, end]), (ok, F0)
 
     def boundary_jac(ya, yb, p, eps, theta, lam, h):
-        r, ok = boundary(ya, yb, p, eps, theta, lam, h)
+        r, (ok, F0) = boundary(ya, yb, p, eps, theta, lam, h)
         Ja, Jb, Jp = jax.jacfwd(lambda *a: boundary(*a, eps, theta, lam, h)[0],
                                 argnums=(0, 1, 2))(ya, yb, p)
-        return r, Ja, Jb, Jp, ok
+        return r, Ja, Jb, Jp, ok, F0
 
     def observable(ya, yb, theta):
         H = 1.0 - jnp.cos(theta)
@@ -165,9 +166,28 @@ class ShellBVP:
         self.b = np.array(scene.breaks + (scene.theta,))
         self.P = scene.pieces
         self.rise = 1.0 - math.cos(scene.theta)
+        self._check_traceable()
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge)
         self.evaluations = 0
+
+    def _check_traceable(self):
+        """The fields are traced by JAX in every method: say so at once if they are not."""
+        def trace(i):
+            s = jnp.float64(self.b[i])
+            return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
+                              for v in self.scene.fields(i, s, jnp.float64(0.0))])
+        for i in range(self.P):
+            try:
+                out = jax.eval_shape(lambda: trace(i))
+            except Exception as exc:  # any tracing failure is the user's field function
+                raise ValueError(
+                    f"scene fields must be written with array arithmetic or jax.numpy (they "
+                    f"are traced by JAX); fields(piece={i}, s, p) failed: "
+                    f"{type(exc).__name__}: {str(exc).splitlines()[0]}") from None
+            if out.shape != (4,):
+                raise ValueError(f"scene fields must return four values (g1, g2, kb1, kb2), "
+                                 f"got shape {out.shape}")
 
     @property
     def lengths(self) -> np.ndarray:
@@ -251,9 +271,10 @@ class ShellBVP:
         derivatives in ya = y(eps), yb = y(theta) and p. Interface continuity is imposed by
         the methods (all six components)."""
         sc = self.scene
-        r, Ja, Jb, Jp, ok = (np.asarray(v) for v in self._k["boundary"](
+        r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in self._k["boundary"](
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
             sc.theta, self.material_parameter, sc.h))
+        sc.check_fields(list(F0[:, None]), 0, p)
         if not ok:
             raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "
                                    f"({sc.parameter} = {p:g})")

@@ -1,7 +1,7 @@
-"""Axisymmetric equilibria (issue: Euler-Lagrange BVP, collocation and shooting back-ends).
+"""Axisymmetric equilibria of the shell BVP with each method (Chebyshev, shooting, collocation).
 
 References are independent of the solvers: the undeformed cap (closed form), the other
-back-end, the first variation of the energy computed by quadrature (not from the ODEs), the
+method, the first variation of the energy computed by quadrature (not from the ODEs), the
 mirror symmetry of the free cap about the flat state, mesh/step refinement, and the limit of
 smoothed stimuli for exact interfaces.
 """
@@ -9,29 +9,34 @@ smoothed stimuli for exact interfaces.
 import math
 from functools import lru_cache
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import shellbvp
-from shellbvp import Scene, solve
+from shellbvp import Chebyshev, Collocation, Scene, ShellBVP, Shooting, solve
 
 THETA = math.pi / 6
 CAP = Scene(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
 
 
+METHODS = {"collocation": Collocation(tol=1e-8), "shooting": Shooting(rtol=1e-10),
+           "spectral": Chebyshev(nodes=24)}
+
+
 @lru_cache(maxsize=None)
-def branch(backend, kappa_max=3.0, tol=1e-8):
+def branch(method, kappa_max=3.0):
     """Natural continuation in kappa from the undeformed cap, steps of 1."""
     out, guess = {}, None
     for k in np.arange(1.0, kappa_max + 0.5, 1.0):
-        guess = solve(CAP, k, backend=backend, guess=guess, tol=tol, estimate_error=False)
+        guess = solve(CAP, k, method=METHODS[method], guess=guess, estimate_error=False)
         out[float(k)] = guess
     return out
 
 
-@pytest.mark.parametrize("backend,tol", [("collocation", 1e-8), ("shooting", 1e-10)])
-def test_zero_stimulus_recovers_undeformed_cap(backend, tol):
-    eq = solve(CAP, 0.0, backend=backend, tol=tol, estimate_error=False)
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_zero_stimulus_recovers_undeformed_cap(method):
+    eq = solve(CAP, 0.0, method=METHODS[method], estimate_error=False)
     assert eq.success
     s = eq.s
     assert np.max(np.abs(eq.r - np.sin(s))) <= 1e-10
@@ -40,12 +45,13 @@ def test_zero_stimulus_recovers_undeformed_cap(backend, tol):
     assert abs(eq.w) <= 1e-10 and abs(eq.energy) <= 1e-15
 
 
-def test_backends_agree_at_strongly_deformed_state():
+def test_methods_agree_at_strongly_deformed_state():
     """Theta = pi/6, h = 0.01, lam = 1, kappa R0 = 3, relaxed CG: (r, z, theta) to 1e-7."""
-    a, b = branch("collocation")[3.0], branch("shooting")[3.0]
+    a, b, c = branch("collocation")[3.0], branch("shooting")[3.0], branch("spectral")[3.0]
     grid = np.linspace(a.s[0], THETA, 400)
     assert np.max(np.abs(a(grid)[:3] - b(grid)[:3])) <= 1e-7
-    assert abs(a.w - b.w) <= 1e-7
+    assert np.max(np.abs(c(grid)[:3] - b(grid)[:3])) <= 1e-7
+    assert abs(a.w - b.w) <= 1e-7 and abs(c.w - b.w) <= 1e-7
     assert a.w > 0.01  # strongly deformed: the edge moved by more than 1% of R0
 
 
@@ -57,11 +63,9 @@ def first_variation(eq, kappa, phi, dphi, psi, n=4000):
 
     sc = eq.scene
     s = np.linspace(eq.s[0], sc.theta, 2 * n + 1)
-    y = eq(s)
-    X = np.empty((4, s.size))
-    sys_ = shellbvp.axisym.AxisymmetricSystem(sc, eq.p)
-    X, _ = sys_.state(0, s, y)
-    lam1, k1 = X[0], X[2]
+    y = eq.unknowns(s)
+    X, _ = ShellBVP(sc).state(s[None, :], y[None], eq.p)
+    lam1, k1 = X[0, 0], X[0, 2]
     th, r = y[2], y[0]
     dth = -lam1 * k1
     d = 1e-20
@@ -101,7 +105,7 @@ def test_mirror_symmetry_of_free_cap():
     a = solve(CAP, 0.5, estimate_error=False)
 
     def mirrored(e):
-        return lambda s: e(s) * np.array([1, -1, -1, -1, 1, -1])[:, None]
+        return lambda s: e.unknowns(s) * np.array([1, -1, -1, -1, 1, -1])[:, None]
 
     b = solve(CAP, 1.5, guess=mirrored(a), estimate_error=False)
     grid = np.linspace(a.s[0], THETA, 300)
@@ -120,10 +124,11 @@ def test_result_does_not_depend_on_the_pole_offset():
 
 def test_collocation_order_under_mesh_refinement():
     """solve_bvp is 4th-order collocation: error in w ~ nodes^-4 (fitted slope in [-5, -3])."""
-    ref = solve(CAP, 2.0, tol=1e-9, estimate_error=False)
+    ref = solve(CAP, 2.0, method=Collocation(tol=1e-9), estimate_error=False)
     n, err = [], []
     for tol in (1e-4, 1e-5, 1e-6, 1e-7):
-        e = solve(CAP, 2.0, tol=tol, guess=ref, nodes=11, estimate_error=False)
+        e = solve(CAP, 2.0, method=Collocation(tol=tol, nodes=11), guess=ref,
+                  estimate_error=False)
         n.append(e.stats["nodes"])
         err.append(abs(e.w - ref.w))
     slope = np.polyfit(np.log(n), np.log(err), 1)[0]
@@ -134,8 +139,8 @@ def test_shooting_order_under_step_refinement():
     """Tsit5 is 5th order: with fixed steps per segment (2 segments) the error in (r, z, theta)
     at the nodes falls like steps^-5 (measured slope ~ -5.6); reference: 256 steps."""
     guess = branch("collocation")[1.0]
-    run = lambda k: solve(CAP, 1.0, backend="shooting", guess=guess, shooting_segments=2,  # noqa: E731
-                          shooting_steps=k, estimate_error=False)
+    run = lambda k: solve(CAP, 1.0, method=Shooting(segments=2, steps=k), guess=guess,  # noqa: E731
+                          estimate_error=False)
     ref = run(256)
     steps = (8, 16, 32)
     err = []
@@ -157,17 +162,22 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
         return one, one, (p - 1.0) * one if piece == 0 else -one, (p - 1.0) * one if piece == 0 else -one
 
     exact = Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=patch, breaks=(sb,))
-    ref = solve(exact, k_patch, estimate_error=False)
+    coll = Collocation(tol=1e-8)
+    ref = solve(exact, k_patch, method=coll, estimate_error=False)
+    # the spectral method on the same two-piece scene agrees with solve_bvp's mesh
+    spec = solve(exact, k_patch, method=Chebyshev(nodes=40), guess=ref)
+    grid = np.linspace(ref.s[0], THETA, 500)
+    assert np.max(np.abs(spec(grid)[:3] - ref(grid)[:3])) < 1e-7 and spec.error_estimate < 1e-9
     diffs = []
     for width in (0.02, 0.01, 0.005):
         def smooth(piece, s, p, width=width):
-            step = 0.5 * (1 - np.tanh((s - sb) / width))
+            step = 0.5 * (1 - jnp.tanh((s - sb) / width))   # fields are traced by JAX
             one = 0.0 * s + 1.0
             kb = -one + p * step
             return one, one, kb, kb
 
         sm = solve(Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=smooth),
-                   k_patch, estimate_error=False)
+                   k_patch, method=coll, estimate_error=False)
         grid = np.linspace(ref.s[0], THETA, 500)
         diffs.append(np.max(np.abs(sm(grid)[:3] - ref(grid)[:3])))
     assert diffs[0] > diffs[1] > diffs[2]
@@ -191,19 +201,28 @@ def test_bad_scene_is_named(kwargs, name):
 
 
 def test_bad_solve_arguments_are_named():
-    with pytest.raises(ValueError, match="backend"):
-        solve(CAP, 1.0, backend="chebfun")
+    with pytest.raises(ValueError, match="method"):
+        solve(CAP, 1.0, method="chebfun")
+    with pytest.raises(ValueError, match="nodes"):
+        solve(CAP, 1.0, method=Chebyshev(nodes=3))
+    with pytest.raises(ValueError, match="guess"):
+        solve(CAP, 1.0, guess=3.0)
     with pytest.raises(ValueError, match="kappa"):
         solve(CAP, float("nan"))
     bad = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0 + 0 * s, 1.0 + 0 * s, np.nan + s, s))
     with pytest.raises(ValueError, match="kb1 must be finite"):
         solve(bad, 1.0)
+    numpy_only = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0, 1.0, np.tanh(s), p))
+    with pytest.raises(ValueError, match="fields must be written with array arithmetic"):
+        solve(numpy_only, 1.0)
 
 
 def test_unconverged_solve_is_flagged_not_returned():
     """Far beyond the fold with no guess the corrector fails: it raises with diagnostics,
     or with throw=False returns success=False and NaN observables."""
     with pytest.raises(shellbvp.ConvergenceError, match="kappa"):
-        solve(CAP, 40.0, max_nodes=300, estimate_error=False)
-    eq = solve(CAP, 40.0, max_nodes=300, estimate_error=False, throw=False)
+        solve(CAP, 40.0, estimate_error=False)
+    eq = solve(CAP, 40.0, method=Collocation(max_nodes=300), estimate_error=False, throw=False)
     assert not eq.success and math.isnan(eq.w)
+    with pytest.raises(shellbvp.ConvergenceError, match="did not converge"):
+        eq(np.array([0.1]))     # a failed result has no shape to give
