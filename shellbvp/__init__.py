@@ -38,7 +38,7 @@ _WHERE = {
     "ShellBVP": "bvp", "reference_state": "bvp",
     "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
     "default_nodes": "methods.chebyshev",
-    "solve": "solve", "follow": "solve", "at_monitor": "solve", "MonitorPoint": "solve",
+    "solve": "driver", "follow": "driver", "at_monitor": "driver", "MonitorPoint": "driver",
     "ContinuationOptions": "continuation",
     "Equilibrium": "results", "Branch": "results", "Fold": "results",
     "ConvergenceError": "errors",

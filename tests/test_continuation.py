@@ -1,34 +1,34 @@
-"""Continuation and fold refinement: Bratu's exactly known fold through the public API,
-fold invariants, passing the fold, option checks, and the cap branch with its CSV."""
+"""The continuation and fold machinery (shellbvp.continuation), tested on problems with
+exactly known folds, independent of the shell equations:
 
-import csv
+* the scalar fold p = 2u - u^2 (fold at u = 1, p = 1);
+* Bratu's problem u'' + p e^u = 0, u(0) = u(1) = 0, first as a hand-written Chebyshev system
+  (the differentiation matrix is checked on its own first), then as a first-order BVP
+  y = (u, u') handed to the package's methods through the same protocol as the shell BVP
+  (Chebyshev and solve_bvp's collocation), with the refinement ladder's error estimate.
+  The fold is p* = 3.513830719125161 (Bratu 1914; 8 x^2 / cosh(x)^2 at the root of
+  x tanh x = 1, checked below), with u'(0) = 4 exactly there.
+
+Then the cap's branch: CSV round trip, points that are equilibria, states kept by the results.
+"""
+
 import math
 
 import numpy as np
 import pytest
 
-from shellbvp import ContinuationOptions, continuation
+from shellbvp import Chebyshev, Collocation, ContinuationOptions, ConvergenceError
+from shellbvp.bvp import Nodal
+from shellbvp.continuation import (locate_fold, newton, polish_fold, pseudo_arclength,
+                                   refine_fold)
+from shellbvp.methods.chebyshev import chebyshev_points, coefficients, differentiation_matrix
+from shellbvp.problems import cap_eversion as ce
 
-# Bratu u'' + lam e^u = 0, u(0) = u(1) = 0: the fold is at lam* = 3.513830719125161
-# (Bratu 1914; lam* = 8 x^2 / cosh(x)^2 at the root of x tanh(x) = 1, 16 digits).
 LAM_STAR = 3.513830719125161
 
 
-class Bratu:
-    def fun(self, x, y, p):
-        return np.vstack([y[1], -p * np.exp(y[0])])
-
-    def fun_jac(self, x, y, p):
-        J = np.zeros((2, 2, x.size))
-        J[0, 1] = 1.0
-        J[1, 0] = -p * np.exp(y[0])
-        return J
-
-    def bc(self, ya, yb, p):
-        return np.array([ya[0], yb[0]])
-
-    def monitor(self, ya, yb):
-        return ya[1]
+def opts(ds, ds_max, **kw):
+    return ContinuationOptions(ds=ds, ds_max=ds_max, ds_min=min(1e-5, ds), **kw)
 
 
 def test_lam_star_reference_is_the_closed_form():
@@ -38,59 +38,219 @@ def test_lam_star_reference_is_the_closed_form():
     assert 8 * x**2 / math.cosh(x) ** 2 == pytest.approx(LAM_STAR, abs=1e-14)
 
 
+class Scalar:
+    """R(u, p) = u^2 - 2u + p, monitor u: the branch p = 2u - u^2 folds at (u, p) = (1, 1)."""
+
+    size = 1
+
+    def evaluate(self, U, p):
+        u = U[0]
+        return np.array([u * u - 2 * u + p]), np.array([[2 * u - 2]]), np.array([1.0])
+
+    def monitor(self, U):
+        return float(U[0]), np.array([1.0])
+
+
+class ChebyshevBratu:
+    """u'' + p e^u = 0 on [0, 1], u = 0 at both ends, on N + 1 Chebyshev points; the
+    boundary rows replace the ODE rows at the ends. Monitor: u'(0)."""
+
+    def __init__(self, N):
+        self.N, self.size = N, N + 1
+        D = differentiation_matrix(N)
+        self.D, self.D2 = D, D @ D
+
+    def evaluate(self, U, p):
+        R = self.D2 @ U + p * np.exp(U)
+        J = self.D2 + np.diag(p * np.exp(U))
+        Rp = np.exp(U)
+        R[0], R[-1] = U[0], U[-1]
+        J[0], J[-1] = 0.0, 0.0
+        J[0, 0] = J[-1, -1] = 1.0
+        Rp[0] = Rp[-1] = 0.0
+        return R, J, Rp
+
+    def monitor(self, U):
+        return float(self.D[0] @ U), self.D[0].copy()
+
+
+def test_chebyshev_differentiation_and_coefficients_are_exact_for_polynomials():
+    N = 12
+    t = chebyshev_points(N)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(1.0, abs=1e-15)
+    p = t**7 - 3 * t**2 + 1
+    assert np.max(np.abs(differentiation_matrix(N) @ p - (7 * t**6 - 6 * t))) < 1e-11
+    # T_k(1 - 2t) has exactly one nonzero coefficient.
+    c = coefficients(np.cos(5 * np.arccos(1 - 2 * t)))
+    assert c[5] == pytest.approx(1.0, abs=1e-13)
+    assert np.max(np.abs(np.delete(c, 5))) < 1e-13
+
+
+def test_scalar_fold_is_passed_and_located_exactly():
+    pts, brackets = pseudo_arclength(Scalar(), np.array([0.0]), 0.0, options=opts(0.1, 0.3),
+                                     p_stop=(-1.0, 2.0), monitor_stop=(-1.0, 2.5))
+    assert len(brackets) == 1
+    i, j = brackets[0]
+    a, b = pts[i], pts[j]
+    assert a.tangent[1] > 0 > b.tangent[1]           # dp/ds changes sign across the fold
+    assert a.monitor < 1.0 < b.monitor
+    fold = locate_fold(Scalar(), a, b)
+    assert fold.p == pytest.approx(1.0, abs=1e-14)
+    assert fold.monitor == pytest.approx(1.0, abs=1e-9)
+    assert min(a.monitor, b.monitor) <= fold.monitor <= max(a.monitor, b.monitor)
+    # Every point is on the branch p = 2u - u^2.
+    for q in pts:
+        assert q.p == pytest.approx(2 * q.U[0] - q.U[0] ** 2, abs=1e-12)
+    assert pts[-1].p < 1.0 and pts[-1].monitor > 1.0   # the branch was followed past the fold
+
+
 @pytest.fixture(scope="module")
 def bratu():
-    x = np.linspace(0, 1, 11)
-    return continuation(Bratu(), 0.0, x, np.zeros((2, 11)), p_stop=(-1, 5), n_folds=1,
-                        options=ContinuationOptions(ds=0.2, ds_max=1.0, tol=1e-8,
-                                                    fold_tol=1e-10))
+    system = ChebyshevBratu(24)
+    pts, brackets = pseudo_arclength(system, np.zeros(25), 0.0, options=opts(0.5, 2.0),
+                                     n_folds=1, p_stop=(-1.0, 5.0))
+    return system, pts, brackets
 
 
-def test_bratu_fold_to_1e_9(bratu):
-    (fold,) = bratu.folds
-    assert abs(fold.p - LAM_STAR) <= 1e-9
-    assert fold.error_estimate <= 1e-9
-    # Exact solution u = -2 log(cosh((x - 1/2) t/2) / cosh(t/4)), so u'(0) = t tanh(t/4); at
-    # the fold t/4 = x* with x* tanh(x*) = 1, hence u'(0) = 4 exactly.
+def test_bratu_fold_through_the_discrete_api(bratu):
+    system, pts, brackets = bratu
+    (i, j), = brackets
+    fold = locate_fold(system, pts[i], pts[j])
+    assert abs(fold.p - LAM_STAR) <= 1e-12
+    assert fold.monitor == pytest.approx(4.0, abs=1e-9)
+    # The refined fold lies between the bracketing points and is the largest p seen.
+    assert pts[i].monitor <= fold.monitor <= pts[j].monitor
+    assert fold.p >= max(q.p for q in pts)
+
+
+def test_bratu_fold_polished_on_a_finer_discretisation(bratu):
+    system, pts, brackets = bratu
+    (i, j), = brackets
+    coarse = locate_fold(ChebyshevBratu(12), *_resampled(pts[i], pts[j], 12))
+    fine_sys = ChebyshevBratu(32)
+    c = coefficients(coarse.U)
+    U = np.polynomial.chebyshev.chebval(1 - 2 * chebyshev_points(32), c)
+    fine = polish_fold(fine_sys, U, coarse.p, coarse.monitor)
+    assert abs(fine.p - LAM_STAR) <= 1e-12
+    assert abs(coarse.p - LAM_STAR) > 1e-10   # the coarse one really was coarser
+
+
+def _resampled(a, b, N):
+    """The bracketing points of the N = 24 branch, re-solved on N nodes at their monitor."""
+    system = ChebyshevBratu(N)
+    out = []
+    for q in (a, b):
+        U = np.polynomial.chebyshev.chebval(1 - 2 * chebyshev_points(N), coefficients(q.U))
+        res = newton(system, U, q.p, 1.0, 0.0, q.monitor)
+        assert res.ok
+        x = np.linalg.solve(np.block([[system.evaluate(res.U, res.p)[1],
+                                       system.evaluate(res.U, res.p)[2][:, None]],
+                                      [res.gm[None, :], np.zeros((1, 1))]]),
+                            np.append(np.zeros(N + 1), 1.0))
+        nrm = math.hypot(1.0, x[-1])
+        out.append(type(q)(res.p, res.m, 0.0, res.U, (1 / nrm, x[-1] / nrm), x[:-1] / nrm))
+    return out
+
+
+def test_newton_failure_is_reported_not_returned():
+    res = newton(Scalar(), np.array([0.0]), 2.0, 0.0, 1.0, 2.0)   # no solution for p > 1
+    assert not res.ok
+    with pytest.raises(ConvergenceError, match="no solution at the start"):
+        pseudo_arclength(Scalar(), np.array([0.0]), 2.0)
+
+
+def test_locate_fold_refuses_a_bracket_without_a_turn():
+    pts, _ = pseudo_arclength(Scalar(), np.array([0.0]), 0.0, options=opts(0.1, 0.1),
+                              p_stop=(-1.0, 0.5))
+    with pytest.raises(ConvergenceError, match="does not change sign"):
+        locate_fold(Scalar(), pts[0], pts[1])
+
+
+class BratuBVP:
+    """Bratu as a first-order BVP y = (u, u') on one piece [0, 1], in the protocol that the
+    methods use for the shell (:class:`shellbvp.ShellBVP`): nodal rhs with exact Jacobians,
+    boundary conditions u(0) = u(1) = 0 with theirs, monitor u'(0)."""
+
+    n, P = 2, 1
+    a, b, lengths = np.array([0.0]), np.array([1.0]), np.array([1.0])
+    rise = 1.0
+    evaluations = 0
+
+    def s_of(self, i, t):
+        return np.asarray(t, dtype=float)
+
+    def rhs(self, s, Y, p, hint=None):
+        u, v = Y[:, 0], Y[:, 1]
+        f = np.stack([v, -p * np.exp(u)], axis=1)
+        J = np.zeros((1, 2, 2, s.shape[1]))
+        J[:, 0, 1] = 1.0
+        J[:, 1, 0] = -p * np.exp(u)
+        fp = np.stack([0 * u, -np.exp(u)], axis=1)
+        return Nodal(f, J, fp)
+
+    def boundary(self, ya, yb, p):
+        Ja, Jb = np.zeros((2, 2)), np.zeros((2, 2))
+        Ja[0, 0] = Jb[1, 0] = 1.0
+        return np.array([ya[0], yb[0]]), Ja, Jb, np.zeros(2)
+
+    def monitor(self, ya, yb):
+        return float(ya[1]), np.array([0.0, 1.0]), np.zeros(2)
+
+
+def bratu_fold(method, fold_tol):
+    system = method.discretise(BratuBVP())
+    o = opts(0.5, 2.0, fold_tol=fold_tol)
+    pts, brackets = pseudo_arclength(system, np.zeros(system.size), 0.0, options=o, n_folds=1,
+                                     p_stop=(-1.0, 5.0))
+    (i, j), = brackets
+    return refine_fold(system, pts[i], pts[j], options=o, index=i)
+
+
+def test_bratu_fold_through_the_chebyshev_method():
+    fold = bratu_fold(Chebyshev(nodes=12), 1e-12)
+    assert abs(fold.p - LAM_STAR) <= 1e-12
+    assert fold.error_estimate <= 1e-12 and fold.stats["refinements"] >= 1
     assert fold.monitor == pytest.approx(4.0, abs=1e-8)
 
 
-def test_fold_invariants(bratu):
-    (fold,) = bratu.folds
-    i, k = fold.bracket
-    pts = bratu.points
-    lo, hi = sorted((pts[i].monitor, pts[k].monitor))
-    assert lo <= fold.monitor <= hi
-    assert fold.p >= max(pts[i].p, pts[k].p)
-    # dp/ds > 0 before the bracket and < 0 after it (the step into pts[k] when it is the last)
-    assert pts[i].p - pts[i - 1].p > 0
-    after = pts[k + 1].p - pts[k].p if k + 1 < len(pts) else pts[k].p - pts[k - 1].p
-    assert after < 0
+def test_bratu_fold_through_the_collocation_method_with_an_honest_estimate():
+    """solve_bvp's 4th-order scheme: the ladder halves every interval until the fold moves by
+    at most fold_tol; the estimate (the last change) bounds the true error, and the errors of
+    successive rungs fall like h^4."""
+    fold = bratu_fold(Collocation(nodes=11), 1e-9)
+    assert abs(fold.p - LAM_STAR) <= fold.error_estimate <= 1e-9
+    errs = []
+    system = Collocation(nodes=11).discretise(BratuBVP())
+    o = opts(0.5, 2.0)
+    pts, ((i, j),) = pseudo_arclength(system, np.zeros(system.size), 0.0, options=o,
+                                      n_folds=1, p_stop=(-1.0, 5.0))
+    f = locate_fold(system, pts[i], pts[j])
+    for _ in range(3):
+        errs.append(abs(f.p - LAM_STAR))
+        finer = f.system.refined()
+        f = polish_fold(finer, f.system.transfer(f.U, f.p, finer), f.p, f.monitor)
+    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert np.all((orders > 3.5) & (orders < 4.5)), orders
 
 
-def test_continuation_passes_the_fold():
-    x = np.linspace(0, 1, 11)
-    res = continuation(Bratu(), 0.0, x, np.zeros((2, 11)), p_stop=(0.1, 5), monitor_stop=(-1, 12),
-                       options=ContinuationOptions(ds=0.2, ds_max=1.0))
-    p = np.array([pt.p for pt in res.points])
-    m = np.array([pt.monitor for pt in res.points])
-    assert np.all(np.diff(m) > 0)                    # monotone along the branch
-    assert m[-1] > 12 or p[-1] < 0.1                 # it went round the fold onto the upper branch
-    assert p.max() < LAM_STAR + 1e-12 and len(res.folds) == 1
+def test_bad_options_are_named():
+    for kw, name in [(dict(ds=1.0, ds_max=0.5), "ds"), (dict(ds=1e-6, ds_min=1e-5), "ds"),
+                     (dict(ds_min=0.0), "ds"), (dict(newton_tol=0.0), "newton_tol"),
+                     (dict(fold_tol=2.0), "fold_tol"), (dict(max_steps=1), "max_steps"),
+                     (dict(turn=0.0), "turn")]:
+        with pytest.raises(ValueError, match=name):
+            ContinuationOptions(**kw)
 
 
-@pytest.mark.parametrize("kw", [dict(ds=1.0, ds_max=0.5), dict(ds=1e-6, ds_min=1e-5),
-                                dict(ds_min=0.0), dict(tol=0.0), dict(fold_tol=2.0),
-                                dict(max_steps=1)])
-def test_bad_options(kw):
-    with pytest.raises(ValueError):
-        ContinuationOptions(**kw)
+@pytest.fixture(scope="module")
+def cap_branch():
+    return ce.branch(math.pi / 6, 0.01, 1.0, kappa_max=0.6)
 
 
-def test_cap_branch_csv_round_trip(tmp_path):
-    from problems import cap_eversion as ce
+def test_cap_branch_csv_round_trip(tmp_path, cap_branch):
+    import csv
 
-    br = ce.branch(math.pi / 6, 0.01, 1.0, kappa_max=0.6)
+    br = cap_branch
     path = tmp_path / "branch.csv"
     br.to_csv(path)
     with open(path) as f:
@@ -105,12 +265,22 @@ def test_cap_branch_csv_round_trip(tmp_path):
     assert not list(tmp_path.glob("*.tmp"))
 
 
-def test_branch_agrees_with_direct_solves():
-    """Points of the continuation diagram are equilibria: a direct solve at the same kappa
-    gives the same edge displacement (independent corrector, no arclength condition)."""
-    from problems import cap_eversion as ce
+def test_branch_points_are_equilibria_and_keep_their_states(cap_branch):
+    """A direct solve at the last kappa of the branch (no arclength condition, another
+    corrector) gives the same state as branch.equilibrium(-1), which needs no solve."""
+    br = cap_branch
+    kept = br.equilibrium(-1)
+    eq = ce.equilibrium(br.p[-1], math.pi / 6, 0.01, 1.0, method=Collocation(tol=1e-9))
+    assert abs(eq.w - br.w[-1]) <= 1e-8 and kept.w == pytest.approx(br.w[-1], abs=1e-15)
+    s = np.linspace(eq.s[0], math.pi / 6, 50)
+    assert np.max(np.abs(kept(s) - eq(s))) <= 1e-7
+    assert kept.energy == pytest.approx(br.energy[-1], rel=1e-12)
+    with pytest.raises(ValueError, match="index"):
+        br.equilibrium(br.p.size)
 
-    br = ce.branch(math.pi / 6, 0.01, 1.0, kappa_max=0.6)
-    k, w = br.p[-1], br.w[-1]
-    eq = ce.equilibrium(k, math.pi / 6, 0.01, 1.0)
-    assert abs(eq.w - w) <= 1e-6
+
+def test_fold_keeps_its_state():
+    r = ce.snap_curvature(math.pi / 6, 0.01, 1.0)
+    eq = r.fold.equilibrium
+    assert eq.p == r.kappa_s and eq.w == pytest.approx(r.w_s, abs=1e-14)
+    assert eq.stats["resolution"]["nodes"] > 24          # the finest rung of the ladder

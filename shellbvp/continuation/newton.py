@@ -52,7 +52,8 @@ class _Factor:
 def _bordered(J, Rp, last_row, beta):
     if sps.issparse(J):
         return sps.bmat([[J, sps.csc_matrix(Rp[:, None])],
-                         [sps.csc_matrix(last_row[None, :]), beta]], format="csc")
+                         [sps.csc_matrix(last_row[None, :]), sps.csc_matrix([[beta]])]],
+                        format="csc")
     n = J.shape[0]
     A = np.empty((n + 1, n + 1))
     A[:-1, :-1], A[:-1, -1], A[-1, :-1], A[-1, -1] = J, Rp, last_row, beta

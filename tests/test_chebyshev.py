@@ -1,7 +1,7 @@
-"""The Chebyshev (spectral) back-end and the snap curvature it computes.
+"""The Chebyshev (spectral) method and the snap curvature it computes.
 
 References, all independent of the spectral code: the undeformed cap (closed form); the
-collocation back-end (scipy's solve_bvp) for an equilibrium; the shooting back-end (diffrax)
+collocation method (scipy's solve_bvp) for an equilibrium; the shooting method (diffrax)
 for kappa_s; convergence of kappa_s under refinement (geometric for a spectral method); the
 mirror symmetry of the free cap (z -> -z with kappa -> 2 - kappa, which maps w to 2H - w).
 """
@@ -12,43 +12,44 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-import shellbvp
-from problems import cap_eversion as ce
-from shellbvp import Scene, solve
-from shellbvp.discrete import follow_discrete, locate_fold, newton
-from shellbvp.spectral import SpectralSystem
+from shellbvp import Chebyshev, Collocation, ContinuationOptions, Scene, ShellBVP, solve
+from shellbvp.continuation import locate_fold, newton, polish_fold, pseudo_arclength
+from shellbvp.problems import cap_eversion as ce
 
 THETA, H0 = math.pi / 6, 0.01
 CAP = Scene(theta=THETA, h=H0, lam=1.0, model="relaxed", material="cg")
 RISE = 1.0 - math.cos(THETA)
+LONG = ContinuationOptions(ds=0.5, ds_max=100.0)
+
+
+def cheb(N, scene=CAP):
+    return Chebyshev(nodes=N).discretise(ShellBVP(scene))
 
 
 @lru_cache(maxsize=None)
 def kappa_s(nodes):
     """kappa_s located on one discretisation (no refinement), from continuation at N = 24."""
-    base = SpectralSystem(CAP, 24)
-    pts, brackets = follow_discrete(base, base.from_profile(shellbvp.reference_state), 0.0,
-                                    ds=0.5, ds_max=100.0, n_folds=1)
+    base = cheb(24)
+    pts, brackets = pseudo_arclength(base, base.from_profile(base.bvp.reference), 0.0,
+                                     options=LONG, n_folds=1)
     (i, j), = brackets
     fold = locate_fold(base, pts[i], pts[j])
     if nodes == 24:
         return fold
-    from shellbvp.discrete import polish_fold
-
-    system = SpectralSystem(CAP, nodes)
-    return polish_fold(system, base.resample(fold.U, nodes), fold.p, fold.monitor)
+    system = cheb(nodes)
+    return polish_fold(system, base.transfer(fold.U, fold.p, system), fold.p, fold.monitor)
 
 
 def test_zero_stimulus_is_the_undeformed_cap():
-    eq = solve(CAP, 0.0, backend="spectral", nodes=24, estimate_error=False)
+    eq = solve(CAP, 0.0, method=Chebyshev(nodes=24), estimate_error=False)
     assert np.max(np.abs(eq.theta - eq.s)) < 1e-12
     assert np.max(np.abs(eq.r - np.sin(eq.s))) < 1e-12
     assert abs(eq.w) < 1e-12
 
 
 def test_spectral_equilibrium_agrees_with_collocation():
-    ref = ce.equilibrium(3.0, THETA, H0, backend="collocation", tol=1e-8)
-    eq = solve(CAP, 3.0, backend="spectral", guess=ref, nodes=32)
+    ref = ce.equilibrium(3.0, THETA, H0, method=Collocation(tol=1e-8))
+    eq = solve(CAP, 3.0, method=Chebyshev(nodes=32), guess=ref)
     s = np.linspace(1e-3, THETA, 101)
     assert np.max(np.abs(eq(s)[:3] - ref(s)[:3])) < 1e-7
     assert abs(eq.w - ref.w) < 1e-8
@@ -73,17 +74,16 @@ def test_snap_curvature_error_estimate_bounds_the_error():
     assert r.error_estimate <= 1e-9
     assert abs(r.kappa_s - kappa_s(48).p) <= max(r.error_estimate, 1e-12)
     # The fold is the maximum of kappa along the branch: nearby states have smaller kappa.
-    system = SpectralSystem(CAP, 40)
+    system = kappa_s(40).system
     for dm in (-1e-3, 1e-3):
         m = r.w_s / RISE + dm
-        guess = system.resample(kappa_s(40).U, 40)
-        res = newton(system, guess, r.kappa_s, 1.0, 0.0, m)
+        res = newton(system, kappa_s(40).U, r.kappa_s, 1.0, 0.0, m)
         assert res.ok and res.p < r.kappa_s
 
 
 def test_spectral_and_shooting_agree_on_kappa_s():
     a = ce.snap_curvature(THETA, H0, 1.0, tol=1e-9)
-    b = ce.snap_curvature(THETA, H0, 1.0, backend="shooting")
+    b = ce.snap_curvature(THETA, H0, 1.0, method="shooting")
     assert abs(a.kappa_s - b.kappa_s) <= 1e-7, (a.kappa_s, b.kappa_s)
     assert abs(a.w_s - b.w_s) <= 1e-6
     assert b.error_estimate <= 1e-7
@@ -93,13 +93,13 @@ def test_mirror_branch_is_the_point_reflection_of_the_primary_branch():
     """kappa(2H - w) = 2 - kappa(w): the branch from the everted state (kappa = 2, w = 2H)
     downwards is the point reflection of the branch from the undeformed cap, fold included."""
     primary = kappa_s(40)
-    system = SpectralSystem(CAP, 40)
-    everted = solve(CAP, 2.0, backend="spectral", nodes=40, estimate_error=False,
+    system = cheb(40)
+    everted = solve(CAP, 2.0, method=Chebyshev(nodes=40), estimate_error=False,
                     guess=lambda s: np.stack([np.sin(s), 1 - np.cos(s), -s, 0 * s, 0 * s,
                                               0 * s]))
     assert abs(everted.w - 2 * RISE) < 1e-10  # the target shape, reached exactly
-    pts, brackets = follow_discrete(system, system.from_profile(everted), 2.0,
-                                    ds=0.5, ds_max=100.0, n_folds=1, direction=-1.0)
+    pts, brackets = pseudo_arclength(system, system.from_profile(everted.unknowns), 2.0,
+                                     options=LONG, n_folds=1, direction=-1.0)
     (i, j), = brackets
     mirror = locate_fold(system, pts[i], pts[j])
     assert mirror.p == pytest.approx(2.0 - primary.p, abs=1e-10)
@@ -117,9 +117,10 @@ def test_shallow_cap_branch_is_point_symmetric_about_the_flat_state():
     assert f1.p + f2.p == pytest.approx(2.0, abs=1e-9)
     assert (f1.w + f2.w) / H == pytest.approx(2.0, abs=1e-8)
     sc = ce.scene(T * math.sqrt(H0), H0)
-    system = SpectralSystem(sc, 24)
-    pts, _ = follow_discrete(system, system.from_profile(shellbvp.reference_state), 0.0,
-                             ds=0.2, ds_max=1.0, monitor_stop=(-1.0, 2.0))
+    system = cheb(24, sc)
+    pts, _ = pseudo_arclength(system, system.from_profile(system.bvp.reference), 0.0,
+                              options=ContinuationOptions(ds=0.2, ds_max=1.0),
+                              monitor_stop=(-1.0, 2.0))
     ms = np.array([q.monitor for q in pts])
     checked = 0
     for q in pts:
@@ -137,16 +138,16 @@ def test_shallow_cap_branch_is_point_symmetric_about_the_flat_state():
 
 def test_bad_nodes_are_named():
     with pytest.raises(ValueError, match="nodes"):
-        SpectralSystem(CAP, 4)
+        Chebyshev(nodes=4)
     with pytest.raises(ValueError, match="nodes"):
-        solve(CAP, 1.0, backend="spectral", nodes=3)
+        Chebyshev(nodes=401)
 
 
 def test_monitor_gradient_matches_finite_differences():
     """dm/dU (used in every bordered solve) against central differences of m itself."""
-    system = SpectralSystem(CAP, 24)
+    system = cheb(24)
     rng = np.random.default_rng(0)
-    U = system.from_profile(shellbvp.reference_state) + 1e-2 * rng.standard_normal(system.size)
+    U = system.from_profile(system.bvp.reference) + 1e-2 * rng.standard_normal(system.size)
     _, g = system.monitor(U)
     fd = np.empty_like(g)
     for k in range(U.size):
