@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from problems import cli
+from shellbvp import cli
 
 
 @pytest.mark.parametrize("argv,needle", [
@@ -42,7 +42,7 @@ def test_branch_command_writes_csv(tmp_path, capsys):
 
 
 def test_snap_command_prints_kappa_s(capsys):
-    from problems import cap_eversion as ce
+    from shellbvp.problems import cap_eversion as ce
 
     assert cli.main(["snap", "--theta", "0.25", "--h", "0.01"]) == 0
     out = capsys.readouterr().out
@@ -51,7 +51,7 @@ def test_snap_command_prints_kappa_s(capsys):
 
 
 def test_sweep_command_csv_round_trip(tmp_path, capsys):
-    from problems import cap_eversion as ce
+    from shellbvp.problems import cap_eversion as ce
 
     out = tmp_path / "s.csv"
     assert cli.main(["sweep", "--T", "1.5:2.5:1", "--h", "0.01", "--csv", str(out)]) == 0

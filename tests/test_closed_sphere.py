@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 
 import paper_formulas as P
-from problems import closed_sphere as cs
+from shellbvp.problems import closed_sphere as cs
 
 h_, lam_ = sp.symbols("h lam", positive=True)
 

@@ -43,7 +43,7 @@ def test_stress_free_and_bad_nu():
 
 
 def test_koiter_cap_solves_and_is_undeformed_at_zero_stimulus():
-    from problems import cap_eversion as ce
+    from shellbvp.problems import cap_eversion as ce
 
     sc = ce.scene(math.pi / 6, 0.01, material="koiter")
     eq = shellbvp.solve(sc, 0.0, estimate_error=False)

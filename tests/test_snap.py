@@ -6,7 +6,7 @@ import math
 import pytest
 
 from shellbvp import ContinuationOptions
-from problems import cap_eversion as ce
+from shellbvp.problems import cap_eversion as ce
 
 H0 = 0.01
 
@@ -42,8 +42,9 @@ def test_a_deep_cap_snaps_well_above_the_onset(onset):
 
 @pytest.mark.slow
 def test_collocation_kappa_s_agrees_with_spectral():
-    """Third route: scipy's solve_bvp continuation with the Moore-Spence extended system."""
-    coll = ce.snap_curvature(math.pi / 6, H0, 1.0, backend="collocation", tol=1e-8)
+    """Third route: solve_bvp's collocation scheme, continued by the common machinery, its
+    fold refined by halving every interval until it moves by at most tol."""
+    coll = ce.snap_curvature(math.pi / 6, H0, 1.0, method="collocation", tol=1e-8)
     spec = ce.snap_curvature(math.pi / 6, H0, 1.0, tol=1e-10)
     assert coll.snaps and coll.error_estimate <= 1e-8
     assert abs(coll.kappa_s - spec.kappa_s) <= coll.error_estimate + 1e-9
@@ -52,7 +53,7 @@ def test_collocation_kappa_s_agrees_with_spectral():
 
 @pytest.mark.slow
 def test_collocation_branch_fold_is_a_maximum_of_kappa():
-    br = ce.branch(math.pi / 6, H0, 1.0, backend="collocation",
+    br = ce.branch(math.pi / 6, H0, 1.0, method="collocation",
                    options=ContinuationOptions(ds=0.1, ds_max=0.5))
     (fold,) = br.folds
     assert fold.p >= br.p.max() - 1e-12
