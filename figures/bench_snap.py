@@ -48,9 +48,9 @@ THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 _CHILD = """
 import json, math, sys, time
 t0 = time.perf_counter()
-from problems import cap_eversion as ce
+from shellbvp.problems import cap_eversion as ce
 t1 = time.perf_counter()
-r = ce.snap_curvature(math.pi / 6, 0.01, 1.0, backend=sys.argv[1])
+r = ce.snap_curvature(math.pi / 6, 0.01, 1.0, method=sys.argv[1])
 t2 = time.perf_counter()
 print(json.dumps(dict(import_s=t1 - t0, first_call_s=t2 - t1, kappa_s=r.kappa_s)))
 """
@@ -67,9 +67,11 @@ def first_call(backend, cache_dir=None):
 
 
 def steady(backend, repeats, tol=1e-9, nodes=None):
-    from problems import cap_eversion as ce
+    import shellbvp
+    from shellbvp.problems import cap_eversion as ce
 
-    kw = dict(backend=backend, tol=tol, nodes=nodes)
+    method = shellbvp.Chebyshev(nodes=nodes) if backend == "spectral" else backend
+    kw = dict(method=method, tol=tol)
     ce.snap_curvature(THETA, H0, LAM, **kw)   # compile, warm caches
     times, r = [], None
     for _ in range(repeats):
@@ -88,7 +90,7 @@ def main(argv=None):
     a = p.parse_args(argv)
     backends = a.backends.split(",")
     repeats = 3 if a.quick else a.repeats
-    from problems import cap_eversion as ce
+    from shellbvp.problems import cap_eversion as ce
 
     pinned = len(os.sched_getaffinity(0)) == 1 if hasattr(os, "sched_getaffinity") else False
     ref = ce.snap_curvature(THETA, H0, LAM, tol=1e-12)
@@ -132,7 +134,7 @@ def main(argv=None):
         times, r = steady("spectral", repeats, tol=tol, nodes=n0)
         rows.append([n0, tol, float(np.median(times)), float(times.min()), float(times.max()),
                      r.kappa_s, r.error_estimate, abs(r.kappa_s - ref.kappa_s),
-                     r.stats["fold"].get("resolution")])
+                     r.stats["fold"]["resolution"].get("nodes")])
         print(f"spectral N0 = {n0:2d}, tol {tol:.0e}: median {np.median(times) * 1e3:7.1f} ms, "
               f"final N = {rows[-1][8]}, kappa_s error {rows[-1][7]:.1e} "
               f"(estimate {r.error_estimate:.1e})")

@@ -15,7 +15,7 @@ import math
 from tqdm import tqdm
 
 from _common import finish, parser, pyplot, write_csv
-from problems import cap_eversion as ce
+from shellbvp.problems import cap_eversion as ce
 import shellbvp
 
 THETA = math.pi / 6

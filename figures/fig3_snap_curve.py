@@ -14,7 +14,7 @@ import numpy as np
 from tqdm import tqdm
 
 from _common import finish, parser, pyplot, write_csv
-from problems import cap_eversion as ce
+from shellbvp.problems import cap_eversion as ce
 
 LAMS = (0.01, 0.1, 1.0, 10.0)
 

@@ -12,7 +12,7 @@ import numpy as np
 from tqdm import tqdm
 
 from _common import finish, parser, pyplot, write_csv
-from problems import closed_sphere as cs
+from shellbvp.problems import closed_sphere as cs
 
 
 def main(argv=None):
