@@ -69,3 +69,21 @@ def test_bad_tol_exits_2(capsys):
         cli.main(["snap", "--tol", "0"])
     assert e.value.code == 2
     assert "--tol must lie in (0, 1)" in capsys.readouterr().err
+
+
+def test_written_files_have_ordinary_permissions(tmp_path):
+    """CSV files are written atomically but with the user's normal permissions (0666 less
+    the umask), like open(path, "w"), not the 0600 of a temporary file."""
+    import os
+
+    from shellbvp import atomic_write_text
+
+    old = os.umask(0o022)
+    try:
+        atomic_write_text(tmp_path / "a.csv", "x\n")
+        with open(tmp_path / "b.csv", "w") as f:
+            f.write("x\n")
+    finally:
+        os.umask(old)
+    mode = lambda name: os.stat(tmp_path / name).st_mode & 0o777  # noqa: E731
+    assert mode("a.csv") == mode("b.csv") == 0o644
