@@ -41,7 +41,7 @@ from .scene import Scene
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["ShellBVP", "Nodal", "reference_state", "POLE_OFFSET", "NODE_CHUNK"]
+__all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", "NODE_CHUNK"]
 
 #: eps / theta. The pole conditions are exact to O(eps^2), so the solution is good to
 #: O(eps^4) = 1e-16 relative: below every tolerance the solvers reach, while eps stays far
@@ -49,7 +49,7 @@ __all__ = ["ShellBVP", "Nodal", "reference_state", "POLE_OFFSET", "NODE_CHUNK"]
 POLE_OFFSET = 1e-4
 #: nodes are evaluated in padded chunks of a multiple of this size (at most MAX_CHUNK):
 #: a few compiled shapes serve every resolution.
-NODE_CHUNK = 16
+NODE_CHUNK = 8
 MAX_CHUNK = 512
 #: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
 ENERGY_PANELS, ENERGY_GAUSS = 64, 4
@@ -60,6 +60,16 @@ def reference_state(s):
     s = np.asarray(s, dtype=float)
     z0 = np.zeros_like(s)
     return np.stack([np.sin(s), np.cos(s) - 1.0, s, z0, z0, z0])
+
+
+class Collocated(NamedTuple):
+    """What a collocation method needs at one iterate: the :class:`Nodal` right-hand side,
+    the boundary residual with its Jacobians (r, d/dya, d/dyb, d/dp) and the monitor with
+    its gradients (m, dm/dya, dm/dyb)."""
+
+    nodal: "Nodal"
+    boundary: tuple
+    monitor: tuple
 
 
 class Nodal(NamedTuple):
@@ -102,23 +112,28 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         _, X, ok = pf["algebraic"](y, s, F, lam, h)
         return X, F, ok
 
-    def boundary(ya, yb, p, eps, theta, lam, h):
+    def pole(ya, p, eps, lam, h):
         F0 = fields_at(0, eps, p)
-        _, X, ok = pf["algebraic"](ya, eps, F0, lam, h)
+        _, X, ok = pf["algebraic"](ya, eps, F0, lam, h, implicit=True)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         start = jnp.stack([X[0] - X[1], X[2] - X[3], third])
+        return start, (start, ok, F0)
+
+    def edge_conditions(yb, theta):
         if edge == "free":
-            end = yb[3:6]
-        else:
-            end = jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
-                             yb[2] - theta])
-        return jnp.concatenate([start, end]), (ok, F0)
+            return yb[3:6]
+        return jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
+                          yb[2] - theta])
 
     def boundary_jac(ya, yb, p, eps, theta, lam, h):
-        r, (ok, F0) = boundary(ya, yb, p, eps, theta, lam, h)
-        Ja, Jb, Jp = jax.jacfwd(lambda *a: boundary(*a, eps, theta, lam, h)[0],
-                                argnums=(0, 1, 2))(ya, yb, p)
-        return r, Ja, Jb, Jp, ok, F0
+        # the pole rows depend on (ya, p) only, the edge rows on yb only: differentiate each
+        # in its own variables (7 and 6 tangents instead of 13 through the inner Newton)
+        (Ja, Jp), (start, ok, F0) = jax.jacfwd(pole, argnums=(0, 1), has_aux=True)(
+            ya, p, eps, lam, h)
+        Jb = jax.jacfwd(edge_conditions)(yb, theta)
+        z = jnp.zeros((3, 6))
+        return (jnp.concatenate([start, edge_conditions(yb, theta)]), jnp.vstack([Ja, z]),
+                jnp.vstack([z, Jb]), jnp.concatenate([Jp, jnp.zeros(3)]), ok, F0)
 
     def observable(ya, yb, theta):
         H = 1.0 - jnp.cos(theta)
@@ -130,8 +145,16 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         return pf["rhs"](y, s, fields_at(piece, s, p), lam, h)[0]
 
     ax = (0, 0, 0, None, None, None, 0)
+    nodal = jax.vmap(nodal_one, in_axes=ax)
+
+    def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
+        # everything a collocation method needs at one iterate, in one dispatch
+        return (nodal(piece, s, y, p, lam, h, q_init), boundary_jac(ya, yb, p, eps, theta, lam, h),
+                jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
+
     return dict(
-        nodal=jax.jit(jax.vmap(nodal_one, in_axes=ax)),
+        collocate=jax.jit(collocate),
+        nodal=jax.jit(nodal),
         state=jax.jit(jax.vmap(state_one, in_axes=ax[:-1])),
         boundary=jax.jit(boundary_jac),
         observable=jax.jit(jax.value_and_grad(observable, argnums=(0, 1))),
@@ -167,6 +190,7 @@ class ShellBVP:
         self.P = scene.pieces
         self.rise = 1.0 - math.cos(scene.theta)
         self._check_traceable()
+        self._layouts = {}
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge)
         self.evaluations = 0
@@ -206,18 +230,26 @@ class ShellBVP:
         return self.scene.material_parameter
 
     # --- nodal functions ----------------------------------------------------------------------
+    def _layout(self, P, m):
+        """Per node count: the piece of every flattened node and the padded chunks."""
+        key = (P, m)
+        if key not in self._layouts:
+            n = P * m
+            size = _chunk(n)
+            chunks = [(start, min(start + size, n),
+                       np.minimum(np.arange(start, start + size), min(start + size, n) - 1))
+                      for start in range(0, n, size)]          # padded with the last node
+            self._layouts[key] = (np.repeat(np.arange(P), m), chunks)
+        return self._layouts[key]
+
     def _flat(self, name, s, Y, p, extra=()):
         """Call kernel ``name`` on every node of s (P, m), Y (P, 6, m), in padded chunks."""
         P, m = s.shape
-        n = P * m
-        piece = np.repeat(np.arange(P), m)
-        sf = s.reshape(n)
-        yf = np.moveaxis(Y, 1, -1).reshape(n, 6)
-        size = _chunk(n)
+        piece, chunks = self._layout(P, m)
+        sf = s.reshape(-1)
+        yf = np.moveaxis(Y, 1, -1).reshape(-1, 6)
         outs = []
-        for start in range(0, n, size):
-            stop = min(start + size, n)
-            idx = np.minimum(np.arange(start, start + size), stop - 1)   # pad with the last
+        for start, stop, idx in chunks:
             args = [piece[idx], sf[idx], yf[idx], float(p), self.material_parameter,
                     self.scene.h] + [e[idx] for e in extra]
             outs.append([np.asarray(o)[: stop - start] for o in self._k[name](*args)])
@@ -227,7 +259,7 @@ class ShellBVP:
         P, m = s.shape
         F = F.reshape(P, m, 4)
         for i in range(P):
-            self.scene.check_fields(list(F[i].T), i, p)
+            self.scene.check_fields(F[i].T, i, p)
         if not np.all(ok):
             k = int(np.argmin(ok))
             raise ConvergenceError(
@@ -242,20 +274,56 @@ class ShellBVP:
         inner Newton; changes cost only). Raises ConvergenceError where the inner Newton fails
         and ValueError for inadmissible stimulus fields.
         """
+        s, Y, q0 = self._nodal_args(s, Y, hint)
+        out = self._flat("nodal", s, Y, p, (q0,))
+        if not np.all(out[4]) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
+            out = self._flat("nodal", s, Y, p, (np.full_like(q0, np.nan),))
+        return self._nodal_result(s, p, out)
+
+    def _nodal_args(self, s, Y, hint):
         s = np.asarray(s, dtype=float)
-        Y = np.asarray(Y, dtype=float)
         P, m = s.shape
         q0 = hint if (hint is not None and hint.shape == (P * m, 2)) else \
             np.full((P * m, 2), np.nan)
-        F, f, J, fp, ok, q = self._flat("nodal", s, Y, p, (q0,))
-        if not np.all(ok) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
-            F, f, J, fp, ok, q = self._flat("nodal", s, Y, p, (np.full_like(q0, np.nan),))
+        return s, np.asarray(Y, dtype=float), q0
+
+    def _nodal_result(self, s, p, out) -> Nodal:
+        F, f, J, fp, ok, q = out
+        P, m = s.shape
         self.evaluations += 1
         self._check(F, ok, s, p)
         f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
         J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
         fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
         return Nodal(f, J, fp, q)
+
+    def collocate(self, s, Y, p, hint=None) -> Collocated:
+        """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
+        y(theta) = Y[-1, :, -1], and :meth:`monitor` there: the same values, in one compiled
+        call when all nodes fit in one chunk."""
+        s, Y, q0 = self._nodal_args(s, Y, hint)
+        P, m = s.shape
+        piece, chunks = self._layout(P, m)
+        if len(chunks) > 1:
+            return Collocated(self.rhs(s, Y, p, hint), self.boundary(Y[0, :, 0], Y[-1, :, -1], p),
+                              self.monitor(Y[0, :, 0], Y[-1, :, -1]))
+        sc = self.scene
+        ((_, _, idx),) = chunks
+        yf = np.moveaxis(Y, 1, -1).reshape(-1, 6)
+
+        def call(q):
+            nod, bc, mon = self._k["collocate"](
+                piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.material_parameter,
+                sc.h, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps, sc.theta)
+            return [np.asarray(o)[:P * m] for o in nod], bc, mon
+
+        out, bc, mon = call(q0)
+        if not np.all(out[4]) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
+            out, bc, mon = call(np.full_like(q0, np.nan))
+        nodal = self._nodal_result(s, p, out)
+        m_, (ga, gb) = mon
+        return Collocated(nodal, self._boundary_result(bc, p),
+                          (float(m_), np.asarray(ga), np.asarray(gb)))
 
     def state(self, s, Y, p):
         """Principal state X = (lam1, lam2, k1, k2) (P, 4, m) and fields (P, 4, m) at nodes."""
@@ -271,13 +339,16 @@ class ShellBVP:
         derivatives in ya = y(eps), yb = y(theta) and p. Interface continuity is imposed by
         the methods (all six components)."""
         sc = self.scene
-        r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in self._k["boundary"](
+        return self._boundary_result(self._k["boundary"](
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.material_parameter, sc.h))
-        sc.check_fields(list(F0[:, None]), 0, p)
+            sc.theta, self.material_parameter, sc.h), p)
+
+    def _boundary_result(self, out, p):
+        r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in out)
+        self.scene.check_fields(F0[:, None], 0, p)
         if not ok:
             raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "
-                                   f"({sc.parameter} = {p:g})")
+                                   f"({self.scene.parameter} = {p:g})")
         return r, Ja, Jb, Jp
 
     def monitor(self, ya, yb):

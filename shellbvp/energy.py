@@ -1,8 +1,8 @@
 """Numerical reduced energy densities, compiled from the symbolic reduction.
 
 Public functions :func:`energy_density` and :func:`energy_terms` evaluate, for the principal
-state of DESIGN.md §2 (stretches relative to the target, principal and target curvatures, in
-units of 1/R0), the energy per unit target area, per shear modulus mu*, per unit thickness
+state (stretches relative to the target metric, principal and target curvatures, in
+units of 1/R0; see :mod:`shellbvp.reduction`), the energy per unit target area, per shear modulus mu*, per unit thickness
 
     W = w_s + h**2/12 * w_b        (h = h0/R0),
 

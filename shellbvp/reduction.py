@@ -1,6 +1,6 @@
 """Symbolic 3D -> 2D reduction of the morphoelastic shell energy (paper Sections 2-4).
 
-Everything is written in the principal (diagonal) form of DESIGN.md §2: in the lines of
+Everything is written in the principal (diagonal) form: in the lines of
 curvature the current and target forms are diagonal, so that with the stretches relative to
 the target ``lam_a**2 = a_aa / abar_aa`` and the principal curvatures ``k_a = b_aa / a_aa``,
 ``kb_a = bbar_aa / abar_aa`` the three-dimensional metrics through the thickness are
@@ -23,7 +23,7 @@ The energy per unit target area and unit thickness is
 with ``w_s`` the Z**0 and ``w_b`` the Z**2 Taylor coefficient of the integrand. Energies are per
 shear modulus mu*, lengths per R0.
 
-Models (DESIGN.md §3):
+Models:
 
 * ``plane_strain``: phi = Z (rho1 = 1, rho2 = rho3 = 0).
 * ``relaxed``: phi = rho1 Z + rho2 Z**2, rho1 minimising w_s (paper eq. (a)), rho2 minimising
@@ -156,7 +156,7 @@ class Reduction:
 
 def _koiter() -> Reduction:
     """The morphoelastic Koiter shell (Efrati et al. 2009; Pezzulla et al. PRL 2018), the
-    paper's reference model, in principal form (DESIGN §3): plane-stress stretching
+    paper's reference model, in principal form: plane-stress stretching
     (h/8) A(a - abar)(a - abar) and bending (h^3/24) A(b - bbar)(b - bbar) with
     A = Y/(1 - nu^2)[nu abar^ abar^ + (1 - nu) abar^ abar^], per mu* (Y = 2 mu* (1 + nu)) and
     per unit thickness. Not derived from 3D: it is the reference, not a reduction. Its

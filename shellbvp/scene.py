@@ -1,4 +1,4 @@
-"""Scenes as data: geometry, stimulus fields, material and boundary conditions (DESIGN §6).
+"""Scenes as data: geometry, stimulus fields, material and boundary conditions (paper Section 5).
 
 A :class:`Scene` describes a spherical cap of reference radius R0 = 1 (meridional angle
 s in [0, theta], apex s = 0 on the axis), thickness h = h0/R0, and a stimulus given as fields
@@ -99,21 +99,16 @@ class Scene:
     def pieces(self) -> int:
         return len(self.breaks) + 1
 
-    def evaluate_fields(self, piece: int, s, p):
-        """The fields on ``piece`` at s, checked: finite, g > 0, g = 1 unless ``metric``."""
-        out = [np.broadcast_to(np.asarray(v, dtype=float), np.shape(s))
-               for v in self.fields(piece, np.asarray(s, dtype=float), p)]
-        return self.check_fields(out, piece, p)
-
     def check_fields(self, out, piece, p):
         """Raise a named ValueError unless the fields (g1, g2, kb1, kb2) are admissible."""
+        F = np.asarray(out, dtype=float)
+        if np.isfinite(F).all() and (F[:2] > 0).all() and (self.metric or (F[:2] == 1).all()):
+            return out      # the common case, checked at once
         names = ("g1", "g2", "kb1", "kb2")
-        for n, v in zip(names, out):
+        for n, v in zip(names, F):
             if not np.all(np.isfinite(v)):
                 raise ValueError(f"stimulus field {n} must be finite (piece {piece}, "
                                  f"{self.parameter} = {p!r})")
-        if np.any(out[0] <= 0) or np.any(out[1] <= 0):
+        if np.any(F[0] <= 0) or np.any(F[1] <= 0):
             raise ValueError("stimulus fields g1, g2 must be > 0")
-        if not self.metric and (np.any(out[0] != 1) or np.any(out[1] != 1)):
-            raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")
-        return out
+        raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")

@@ -1,7 +1,7 @@
 """The paper's printed formulas, transcribed for comparison only (never used by the library).
 
-Taffetani & Pezzulla, shared/reference/000_03c2a5e2f0545456.tex. Transcribed literally, in the
-principal form of DESIGN.md §2 with mu* = 1:
+Taffetani & Pezzulla, "Nonlinear morphoelastic energy based theory for stimuli responsive
+elastic shells". Transcribed literally, in the principal (diagonal) form with mu* = 1:
     a.abar^ = lam1^2 + lam2^2 (A),        b.abar^ = k1 lam1^2 + k2 lam2^2 (B),
     c.abar^ = k1^2 lam1^2 + k2^2 lam2^2 (C), a.bbar^ = kb1 lam1^2 + kb2 lam2^2 (Ab),
     b.bbar^ = k1 kb1 lam1^2 + k2 kb2 lam2^2 (Bb), a.cbar^ = kb1^2 lam1^2 + kb2^2 lam2^2 (Acb),

@@ -1,4 +1,4 @@
-"""The morphoelastic Koiter reference model (DESIGN §3): checked against classical linear
+"""The morphoelastic Koiter reference model (Efrati et al. 2009): checked against classical linear
 plate theory with Poisson ratio nu, the stress-free state, and the incompressible limit of
 the derived neo-Hookean energy; and it runs through the equilibrium solver."""
 

@@ -74,6 +74,8 @@ class NodalSystem:
         self.s = np.stack([bvp.s_of(i, self.t) for i in range(self.P)])   # (P, M + 1)
         self.size = n * self.P * (self.M + 1)
         self.evaluations = 0
+        self._hint = None       # warm start of the BVP's inner solve (cost only)
+        self._monitor = None    # (U, monitor at U) of the last evaluation
 
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
@@ -95,9 +97,25 @@ class NodalSystem:
         return (i * self.n + c) * (self.M + 1)
 
     # --- the system --------------------------------------------------------------------------
-    def interior(self, Y, p):
-        """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp)."""
+    def interior(self, Y, p, nodal):
+        """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp),
+        given ``nodal``, the BVP's right-hand side at the nodes (:class:`shellbvp.bvp.Nodal`)."""
         raise NotImplementedError
+
+    def _collocate(self, Y, p):
+        """The BVP's nodal rhs, boundary conditions and monitor at Y (one compiled call when
+        the BVP offers it), with the inner Newton warm-started from the last evaluation."""
+        bvp = self.bvp
+        if hasattr(bvp, "collocate"):
+            out = bvp.collocate(self.s, Y, p, self._hint)
+            nodal, bc, mon = out
+        else:
+            nodal = bvp.rhs(self.s, Y, p, self._hint)
+            bc = bvp.boundary(Y[0, :, 0], Y[-1, :, -1], p)
+            mon = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
+        # a warm start changes cost only: the inner Newton converges to 1e-13 from any start
+        self._hint = nodal.hint
+        return nodal, bc, mon
 
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)
     dense_jacobian = True
@@ -105,8 +123,9 @@ class NodalSystem:
     def evaluate(self, U, p):
         Y = self.split(U)
         N1, P, M, n = self.M + 1, self.P, self.M, self.n
-        rb, Ja, Jb, Jpb = self.bvp.boundary(Y[0, :, 0], Y[-1, :, -1], p)
-        blocks = self.interior(Y, p)
+        nodal, (rb, Ja, Jb, Jpb), mon = self._collocate(Y, p)
+        self._monitor = (np.array(U, dtype=float), mon)   # Newton asks for it at the same U
+        blocks = self.interior(Y, p, nodal)
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
         ia = [self.col(0, c) for c in range(n)]              # y(eps): piece 0, node 0
@@ -153,7 +172,10 @@ class NodalSystem:
 
     def monitor(self, U):
         Y = self.split(U)
-        m, ga, gb = self.bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
+        if self._monitor is not None and np.array_equal(self._monitor[0], U):
+            m, ga, gb = self._monitor[1]
+        else:
+            m, ga, gb = self.bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
         g = np.zeros((self.P, self.n, self.M + 1))
         g[0, :, 0] += ga
         g[-1, :, -1] += gb

@@ -124,13 +124,8 @@ class ChebyshevSystem(NodalSystem):
         self.N = N
         self._PD = resampling_matrix(N) @ differentiation_matrix(N)
         self._Pm = resampling_matrix(N)
-        self._hint = None
 
-    def interior(self, Y, p):
-        nod = self.bvp.rhs(self.s, Y, p, self._hint)
-        # A warm start of the inner (lam1, k1) Newton at the next evaluation: changes cost
-        # only (the inner Newton converges to 1e-13 from either start).
-        self._hint = nod.hint
+    def interior(self, Y, p, nod):
         n, N = self.n, self.N
         L = self.bvp.lengths
         out = []

@@ -127,18 +127,17 @@ class CollocationSystem(NodalSystem):
         self.hstep = np.diff(self.t)
         self.s_mid = np.stack([bvp.s_of(i, self.t[:-1] + self.hstep / 2)
                                for i in range(self.P)])
-        self._hints = [None, None]
+        self._mid_hint = None
 
-    def interior(self, Y, p):
+    def interior(self, Y, p, nod):
         n, M, L = self.n, self.M, self.bvp.lengths
         h = self.hstep
-        nod = self.bvp.rhs(self.s, Y, p, self._hints[0])
         F = L[:, None, None] * nod.f                                   # (P, n, M + 1)
         Fp = L[:, None, None] * nod.fp
         JF = L[:, None, None, None] * nod.J                            # (P, n, n, M + 1)
         Ym = (Y[:, :, :-1] + Y[:, :, 1:]) / 2 - h / 8 * (F[:, :, 1:] - F[:, :, :-1])
-        mid = self.bvp.rhs(self.s_mid, Ym, p, self._hints[1])
-        self._hints = [nod.hint, mid.hint]
+        mid = self.bvp.rhs(self.s_mid, Ym, p, self._mid_hint)
+        self._mid_hint = mid.hint
         Fm = L[:, None, None] * mid.f
         JFm = L[:, None, None, None] * mid.J
         eye = np.eye(n)
