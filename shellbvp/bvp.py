@@ -162,6 +162,28 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
     )
 
 
+@lru_cache(maxsize=64)
+def _untraceable(fields, P) -> str:
+    """Why JAX cannot trace the scene's fields (every method traces them), or "" if it can;
+    one trace per field function, not one per solve."""
+    def trace(i):
+        s = jnp.float64(0.5)
+        return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
+                          for v in fields(i, s, jnp.float64(0.0))])
+
+    for i in range(P):
+        try:
+            out = jax.eval_shape(lambda: trace(i))
+        except Exception as exc:  # any tracing failure is the user's field function
+            return (f"scene fields must be written with array arithmetic or jax.numpy (they "
+                    f"are traced by JAX); fields(piece={i}, s, p) failed: "
+                    f"{type(exc).__name__}: {str(exc).splitlines()[0]}")
+        if out.shape != (4,):
+            return (f"scene fields must return four values (g1, g2, kb1, kb2), got shape "
+                    f"{out.shape}")
+    return ""
+
+
 class ShellBVP:
     """The multi-point BVP of ``scene`` (see the module docstring).
 
@@ -189,29 +211,13 @@ class ShellBVP:
         self.b = np.array(scene.breaks + (scene.theta,))
         self.P = scene.pieces
         self.rise = 1.0 - math.cos(scene.theta)
-        self._check_traceable()
+        problem = _untraceable(scene.fields, self.P)
+        if problem:
+            raise ValueError(problem)
         self._layouts = {}
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge)
         self.evaluations = 0
-
-    def _check_traceable(self):
-        """The fields are traced by JAX in every method: say so at once if they are not."""
-        def trace(i):
-            s = jnp.float64(self.b[i])
-            return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                              for v in self.scene.fields(i, s, jnp.float64(0.0))])
-        for i in range(self.P):
-            try:
-                out = jax.eval_shape(lambda: trace(i))
-            except Exception as exc:  # any tracing failure is the user's field function
-                raise ValueError(
-                    f"scene fields must be written with array arithmetic or jax.numpy (they "
-                    f"are traced by JAX); fields(piece={i}, s, p) failed: "
-                    f"{type(exc).__name__}: {str(exc).splitlines()[0]}") from None
-            if out.shape != (4,):
-                raise ValueError(f"scene fields must return four values (g1, g2, kb1, kb2), "
-                                 f"got shape {out.shape}")
 
     @property
     def lengths(self) -> np.ndarray:

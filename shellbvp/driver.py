@@ -25,6 +25,8 @@ __all__ = ["solve", "follow", "at_monitor", "MonitorPoint", "SOLVE_NEWTON_TOL"]
 #: convergence: the residual left is ~1e-20)
 SOLVE_NEWTON_TOL = 1e-10
 SOLVE_MAXITER = 40
+#: points per piece at which a solution and its refinement are compared (error estimate)
+ERROR_SAMPLES = 65
 
 
 def _check_p(scene, p):
@@ -96,7 +98,8 @@ def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float |
         if estimate_error:
             fine = system.refined()
             Uf = _newton_at(fine, system.transfer(U, p, fine), p, "error estimate").U
-            s = np.concatenate([bvp.s_of(i, np.linspace(0, 1, 65)) for i in range(bvp.P)])
+            t = np.linspace(0.0, 1.0, ERROR_SAMPLES)
+            s = np.concatenate([bvp.s_of(i, t) for i in range(bvp.P)])
             a, b = bvp.profile(system.dense(U, p)), bvp.profile(fine.dense(Uf, p))
             err = max(float(np.max(np.abs(a(s)[:3] - b(s)[:3]))),
                       abs(fine.monitor(Uf)[0] - system.monitor(U)[0]) * bvp.rise)

@@ -128,6 +128,13 @@ class CollocationSystem(NodalSystem):
         self.s_mid = np.stack([bvp.s_of(i, self.t[:-1] + self.hstep / 2)
                                for i in range(self.P)])
         self._mid_hint = None
+        # sparsity pattern of a piece's block, fixed by the mesh: rows (component a of
+        # interval j at a M + j) and columns (component b of node k at b (M + 1) + k, the
+        # layout of NodalSystem) for the blocks dR_j/dy_j and dR_j/dy_{j+1}
+        n, M = self.n, self.M
+        j, a, b = np.meshgrid(np.arange(M), np.arange(n), np.arange(n), indexing="ij")
+        self._rows = np.concatenate([(a * M + j).ravel()] * 2)
+        self._cols = np.concatenate([(b * (M + 1) + j).ravel(), (b * (M + 1) + j + 1).ravel()])
 
     def interior(self, Y, p, nod):
         n, M, L = self.n, self.M, self.bvp.lengths
@@ -152,13 +159,8 @@ class CollocationSystem(NodalSystem):
             dym = -h / 8 * (Fp[i, :, 1:] - Fp[i, :, :-1])              # d y_mid / dp (n, M)
             Fpm = L[i] * mid.fp[i] + np.einsum("jab,bj->aj", Jm, dym)
             Rp = -h / 6 * (Fp[i, :, :-1] + 4 * Fpm + Fp[i, :, 1:])
-            # rows: component a of interval j at a * M + j; columns: component b of node k
-            # at b * (M + 1) + k (the layout of NodalSystem)
-            j, a, b = np.meshgrid(np.arange(M), np.arange(n), np.arange(n), indexing="ij")
-            rows = np.concatenate([(a * M + j).ravel(), (a * M + j).ravel()])
-            cols = np.concatenate([(b * (M + 1) + j).ravel(), (b * (M + 1) + j + 1).ravel()])
             vals = np.concatenate([A.ravel(), B.ravel()])
-            Ji = sps.coo_matrix((vals, (rows, cols)), shape=(n * M, n * (M + 1)))
+            Ji = sps.coo_matrix((vals, (self._rows, self._cols)), shape=(n * M, n * (M + 1)))
             out.append((R.ravel(), Ji, Rp.ravel()))
         return out
 
