@@ -22,8 +22,8 @@ bending and membrane unknowns have the same size):
 The reference mid-surface is r = sin s, z = cos s - 1, theta = s (apex at the origin). All
 of the above is JAX code compiled once per (model, material, fields, pieces, conditions); the
 methods in :mod:`shellbvp.methods` only discretise it. The nodal right-hand side is
-evaluated in padded chunks of ``NODE_CHUNK`` nodes, so that a change of resolution reuses a
-compiled program instead of compiling a new one.
+evaluated in chunks padded to one of a few sizes (``CHUNKS``), so that a change of
+resolution reuses a compiled program instead of compiling a new one.
 """
 
 from __future__ import annotations
@@ -41,16 +41,17 @@ from .scene import Scene
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", "NODE_CHUNK"]
+__all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", "CHUNKS"]
 
 #: eps / theta. The pole conditions are exact to O(eps^2), so the solution is good to
 #: O(eps^4) = 1e-16 relative: below every tolerance the solvers reach, while eps stays far
 #: enough from s = 0 that lam2 = r / (g2 sin s) is evaluated without cancellation.
 POLE_OFFSET = 1e-4
-#: nodes are evaluated in padded chunks of a multiple of this size (at most MAX_CHUNK):
-#: a few compiled shapes serve every resolution.
-NODE_CHUNK = 8
-MAX_CHUNK = 512
+#: nodes are evaluated in chunks padded to one of these sizes (larger sets in chunks of the
+#: last): fine steps where Chebyshev degrees live (N + 1 = 25, 33, 41 pad by <= 7 nodes),
+#: geometric above, so that solve_bvp's ever-changing meshes reuse ~a dozen compiled
+#: programs instead of compiling one per mesh size (each a few seconds and code memory)
+CHUNKS = (8, 16, 24, 32, 40, 48, 64, 96, 128, 192, 256, 384, 512)
 #: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
 ENERGY_PANELS, ENERGY_GAUSS = 64, 4
 
@@ -83,7 +84,7 @@ class Nodal(NamedTuple):
 
 
 def _chunk(n: int) -> int:
-    return min(MAX_CHUNK, NODE_CHUNK * math.ceil(n / NODE_CHUNK))
+    return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
 
 @lru_cache(maxsize=32)

@@ -1,15 +1,21 @@
-"""JAX set-up for the compiled modules: float64, and the persistent compilation cache.
+"""JAX set-up for the compiled modules: float64, and (opt-in) the persistent compilation cache.
 
 Double precision is required (continuation and fold refinement work at 1e-10); importing
 any compiled part of shellbvp turns on ``jax_enable_x64``, the one global JAX setting the
-package changes on its own authority. Compiled XLA programs are also kept on disk, in
-``$SHELLBVP_CACHE_DIR/jax`` (default ``~/.cache/shellbvp/jax``), so that the JIT cost is
-paid once per machine rather than once per process; this is skipped when
-``SHELLBVP_CACHE_DIR=off`` or when the user has already configured a JAX compilation cache
-(their choice wins).
+package changes by default.
+
+JAX's persistent compilation cache (compiled XLA programs kept on disk, so that a new process
+skips compilation) is off by default: with jax/jaxlib 0.10.2 on CPU, loading a cached
+executable aborted a test process (``Fatal Python error: Aborted`` inside
+``compilation_cache.get_executable_and_time``) after it had compiled several hundred
+programs; the cause is not isolated, and a crash is worse than a recompile. ``SHELLBVP_JAX_CACHE=on`` turns it on (in
+``$SHELLBVP_CACHE_DIR/jax``) for users whose JAX loads its cache safely; a cache the user
+configured in JAX itself is left alone.
 """
 
 from __future__ import annotations
+
+import os
 
 import jax
 
@@ -23,7 +29,8 @@ jax.config.update("jax_enable_x64", True)
 
 def _use_persistent_cache() -> None:
     folder = cache_dir()
-    if folder is None or getattr(jax.config, "jax_compilation_cache_dir", None):
+    if (os.environ.get("SHELLBVP_JAX_CACHE", "off").strip().lower() not in {"on", "1", "yes"}
+            or folder is None or getattr(jax.config, "jax_compilation_cache_dir", None)):
         return
     try:
         jax.config.update("jax_compilation_cache_dir", str(folder / "jax"))
