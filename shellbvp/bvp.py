@@ -52,6 +52,9 @@ POLE_OFFSET = 1e-4
 #: geometric above, so that solve_bvp's ever-changing meshes reuse ~a dozen compiled
 #: programs instead of compiling one per mesh size (each a few seconds and code memory)
 CHUNKS = (8, 16, 24, 32, 40, 48, 64, 96, 128, 192, 256, 384, 512)
+#: steps in which the inner root is carried across an interface as the fields jump
+#: (post-processing only; the methods carry it from their previous iterate)
+INTERFACE_STEPS = 16
 #: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
 ENERGY_PANELS, ENERGY_GAUSS = 64, 4
 
@@ -87,6 +90,54 @@ def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
 
+class _Packed:
+    """A jitted function whose arguments go to the device as ONE float64 vector and whose
+    outputs (a pytree of arrays) come back as ONE vector, unpacked into numpy views.
+
+    Each host-to-device argument costs ~15 us and each device-to-host output ~5 us; a
+    collocation evaluation has 11 arguments and 15 outputs, which made the host overhead of
+    a small system (Chebyshev N = 32) half of its evaluation. Shapes and dtypes of the
+    arguments fix the layouts, found once per shape (the output's by ``jax.eval_shape``).
+    Integer arguments travel as float64 (exact below 2^53).
+    """
+
+    def __init__(self, fn):
+        self._fn = fn
+        self._programs = {}
+
+    def _program(self, args):
+        shapes = [np.shape(a) for a in args]
+        dtypes = [np.asarray(a).dtype for a in args]
+        sizes = [math.prod(sh) for sh in shapes]
+        starts = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+
+        def unpack(flat):
+            return [flat[a:a + n].reshape(sh).astype(dt) if sh else flat[a].astype(dt)
+                    for a, n, sh, dt in zip(starts, sizes, shapes, dtypes)]
+
+        def packed(flat):
+            out = self._fn(*unpack(flat))
+            return jnp.concatenate([jnp.ravel(x).astype(jnp.float64)
+                                    for x in jax.tree_util.tree_leaves(out)])
+
+        spec = [jax.ShapeDtypeStruct(sh, dt) for sh, dt in zip(shapes, dtypes)]
+        leaves, tree = jax.tree_util.tree_flatten(jax.eval_shape(self._fn, *spec))
+        ends = np.cumsum([math.prod(x.shape) for x in leaves])
+        layout = [(e - math.prod(x.shape), e, x.shape, x.dtype) for x, e in zip(leaves, ends)]
+        return jax.jit(packed), tree, layout
+
+    def __call__(self, *args):
+        key = tuple(map(np.shape, args))    # a call site passes the same dtypes every time
+        if key not in self._programs:
+            self._programs[key] = self._program(args)
+        program, tree, layout = self._programs[key]
+        flat = np.concatenate(list(map(np.ravel, args)), dtype=np.float64)
+        out = np.asarray(program(flat))
+        return jax.tree_util.tree_unflatten(tree, [
+            out[a:b].reshape(shape) if dtype == np.float64 else
+            out[a:b].reshape(shape).astype(dtype) for a, b, shape, dtype in layout])
+
+
 @lru_cache(maxsize=32)
 def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
     """The scene's compiled functions (see :class:`ShellBVP`)."""
@@ -108,10 +159,35 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         f, J, fp, ok, q = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
         return F, f, J, fp, ok, q
 
-    def state_one(piece, s, y, p, lam, h):
-        F = fields_at(piece, s, p)
-        _, X, ok = pf["algebraic"](y, s, F, lam, h)
-        return X, F, ok
+    def state_along(piece, s, y, p, lam, h, q_start):
+        # Each node from the previous node's (lam1, k1) (nodes in order along the meridian:
+        # the state is continuous in s within a piece). Across an interface y is continuous
+        # but (lam1, k1) jump with the fields: there the root is followed from the previous
+        # node's while the fields move from their old to their new values in
+        # INTERFACE_STEPS steps. Where these fail (no elliptic root), from the pole-like guess.
+        def across(q, y_, s_, F_prev, F):
+            def sub(i, q_):
+                t = (i + 1.0) / INTERFACE_STEPS
+                q_new, _, ok = pf["algebraic"](y_, s_, (1 - t) * F_prev + t * F, lam, h, q_)
+                return jnp.where(ok, q_new, jnp.nan)
+            return pf["algebraic"](y_, s_, F, lam, h,
+                                   jax.lax.fori_loop(0, INTERFACE_STEPS, sub, q))
+
+        def step(carry, args):
+            q, F_prev = carry
+            piece_, s_, y_ = args
+            F = fields_at(piece_, s_, p)
+            warm = pf["algebraic"](y_, s_, F, lam, h, q)
+            second = jax.lax.cond(warm[2], lambda: warm,
+                                  lambda: across(q, y_, s_, F_prev, F))
+            q_new, X, ok = jax.lax.cond(second[2], lambda: second,
+                                        lambda: pf["algebraic"](y_, s_, F, lam, h))
+            gw, Hw = pf["hessian"](y_, q_new, s_, F, lam, h)
+            return (jnp.where(ok, q_new, q), F), (X, F, ok, gw, Hw)
+
+        F0 = fields_at(piece[0], s[0], p)
+        (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0), (piece, s, y))
+        return X, F, ok, gw, Hw, q_end
 
     def pole(ya, p, eps, lam, h):
         F0 = fields_at(0, eps, p)
@@ -154,11 +230,11 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(
-        collocate=jax.jit(collocate),
-        nodal=jax.jit(nodal),
-        state=jax.jit(jax.vmap(state_one, in_axes=ax[:-1])),
-        boundary=jax.jit(boundary_jac),
-        observable=jax.jit(jax.value_and_grad(observable, argnums=(0, 1))),
+        collocate=_Packed(collocate),
+        nodal=_Packed(nodal),
+        state=_Packed(state_along),
+        boundary=_Packed(boundary_jac),
+        observable=_Packed(jax.value_and_grad(observable, argnums=(0, 1))),
         vector_field=vector_field,
     )
 
@@ -281,18 +357,30 @@ class ShellBVP:
         inner Newton; changes cost only). Raises ConvergenceError where the inner Newton fails
         and ValueError for inadmissible stimulus fields.
         """
-        s, Y, q0 = self._nodal_args(s, Y, hint)
+        s, Y, q0 = self._nodal_args(s, Y, hint, p)
         out = self._flat("nodal", s, Y, p, (q0,))
-        if not np.all(out[4]) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
-            out = self._flat("nodal", s, Y, p, (np.full_like(q0, np.nan),))
+        if not np.all(out[4]):         # a stale warm start: restart along the meridian
+            out = self._flat("nodal", s, Y, p, (self._start(s, Y, p),))
         return self._nodal_result(s, p, out)
 
-    def _nodal_args(self, s, Y, hint):
-        s = np.asarray(s, dtype=float)
+    def _nodal_args(self, s, Y, hint, p):
+        s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
         P, m = s.shape
-        q0 = hint if (hint is not None and hint.shape == (P * m, 2)) else \
-            np.full((P * m, 2), np.nan)
-        return s, np.asarray(Y, dtype=float), q0
+        if hint is not None and hint.shape == (P * m, 2):
+            return s, Y, hint
+        return s, Y, self._start(s, Y, p)
+
+    def _start(self, s, Y, p):
+        """A start for the inner Newton at every node when no previous iterate is known:
+        (lam1, k1) followed along the meridian from the pole (:meth:`state_and_hessian`;
+        an independent start per node from (lam2, k2) misses the root where the fields jump
+        at an interface); nan (the pole-like guess) where that fails. A one-piece scene has
+        no interface: there the pole-like guess is the start at every node (it needs no
+        sequential scan, which is one more program to compile)."""
+        if self.P == 1:
+            return np.full((s.size, 2), np.nan)
+        X, _, ok, _, _ = self._scan(s, Y, p)
+        return np.where(ok[:, None], X[:, [0, 2]], np.nan)
 
     def _nodal_result(self, s, p, out) -> Nodal:
         F, f, J, fp, ok, q = out
@@ -308,7 +396,7 @@ class ShellBVP:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
         y(theta) = Y[-1, :, -1], and :meth:`monitor` there: the same values, in one compiled
         call when all nodes fit in one chunk."""
-        s, Y, q0 = self._nodal_args(s, Y, hint)
+        s, Y, q0 = self._nodal_args(s, Y, hint, p)
         P, m = s.shape
         piece, chunks = self._layout(P, m)
         if len(chunks) > 1:
@@ -325,8 +413,8 @@ class ShellBVP:
             return [np.asarray(o)[:P * m] for o in nod], bc, mon
 
         out, bc, mon = call(q0)
-        if not np.all(out[4]) and np.all(np.isfinite(q0)):   # a stale warm start: retry cold
-            out, bc, mon = call(np.full_like(q0, np.nan))
+        if not np.all(out[4]):         # a stale warm start: restart along the meridian
+            out, bc, mon = call(self._start(s, Y, p))
         nodal = self._nodal_result(s, p, out)
         m_, (ga, gb) = mon
         return Collocated(nodal, self._boundary_result(bc, p),
@@ -334,11 +422,34 @@ class ShellBVP:
 
     def state(self, s, Y, p):
         """Principal state X = (lam1, lam2, k1, k2) (P, 4, m) and fields (P, 4, m) at nodes."""
+        X, F, _, _ = self.state_and_hessian(s, Y, p)
+        return X, F
+
+    def state_and_hessian(self, s, Y, p):
+        """:meth:`state` and the gradient (P, 4, m) and Hessian (P, 4, 4, m) of W in X at
+        every node: the ellipticity of the reduced energy is read from them
+        (:func:`shellbvp.results.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
-        X, F, ok = self._flat("state", s, np.asarray(Y, dtype=float), p)
+        X, F, ok, gw, Hw = self._scan(s, Y, p)
         self._check(F, ok, s, p)
-        return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F.reshape(P, m, 4), -1, 1))
+        return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F.reshape(P, m, 4), -1, 1),
+                np.moveaxis(gw.reshape(P, m, 4), -1, 1), np.moveaxis(Hw.reshape(P, m, 4, 4), 1, -1))
+
+    def _scan(self, s, Y, p):
+        """The state along the meridian (flattened nodes, piece-major), each node's inner
+        Newton started from the previous one's (see ``state_along`` in the kernels)."""
+        P, m = s.shape
+        piece, chunks = self._layout(P, m)
+        sf, yf = s.reshape(-1), np.moveaxis(np.asarray(Y, dtype=float), 1, -1).reshape(-1, 6)
+        q = np.full(2, np.nan)         # the first node starts from the pole-like guess
+        outs = []
+        for start, stop, idx in chunks:
+            X, F, ok, gw, Hw, q = self._k["state"](piece[idx], sf[idx], yf[idx], float(p),
+                                                   self.material_parameter, self.scene.h, q)
+            n = stop - start
+            outs.append((X[:n], F[:n], ok[:n], gw[:n], Hw[:n]))
+        return tuple(np.concatenate(parts) for parts in zip(*outs))
 
     # --- boundary conditions and observable ---------------------------------------------------
     def boundary(self, ya, yb, p):

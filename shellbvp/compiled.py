@@ -29,6 +29,11 @@ __all__ = ["point_functions", "NEWTON_TOL"]
 NEWTON_MAXITER = 40
 #: relative update at which the inner Newton stops (the next update would be ~1e-26)
 NEWTON_TOL = 1e-13
+#: the round-off floor of the update grows with the stimulus (G sums terms of size
+#: ~ h^2 kb^2 that cancel; at kbar ~ 34 of the budding cap it is ~1e-12): an iteration whose
+#: update no longer halves has reached that floor, and is converged if the update is below
+#: this (the solution then carries ~1e-12 relative error, far below every outer tolerance)
+NEWTON_FLOOR = 1e-9
 
 
 @lru_cache(maxsize=None)
@@ -103,6 +108,18 @@ def point_functions(model, material, rhob1, metric):
         H, g = jet_W(X, F[2], F[3], lam, h)
         return X, g, H
 
+    def legendre_holds(X, g, H):
+        # The Hessian of W in (lam1, kappa = lam1 k1) at fixed (lam2, k2), positive definite
+        # (:func:`shellbvp.results.ellipticity` gives its eigenvalues): k1 = kappa / lam1,
+        # so it is J^T H_(lam1, k1) J plus the moment W_k1 times the Hessian of k1.
+        lam1, kap = X[0], X[0] * X[2]
+        a11, a13, a33 = H[0, 0], H[0, 2], H[2, 2]
+        d = -kap / lam1**2                     # dk1/dlam1; dk1/dkappa = 1/lam1
+        L00 = a11 + 2 * a13 * d + a33 * d * d + g[2] * 2 * kap / lam1**3
+        L01 = (a13 + a33 * d) / lam1 - g[2] / lam1**2
+        L11 = a33 / lam1**2
+        return (L00 > 0) & (L00 * L11 - L01 * L01 > 0)
+
     def algebraic(y, s, F, lam, h, q_init=None, implicit=False):
         # Start from the pole-like guess (lam2, k2), or from q_init where it is finite (a warm
         # start from the previous Newton iterate of an outer solver).
@@ -115,22 +132,30 @@ def point_functions(model, material, rhob1, metric):
             q0 = jnp.where(jnp.isfinite(q_init) & (q_init[0] > 0), q_init, q0)
 
         def body(c):
-            q, it, _ = c
+            q, it, err_prev, _, _ = c
             X, g, H = jet(y, q, s, F, lam, h)
             a = args(y, q, s, F, g, H, h)
             G = _arr(el["G"](*a))
             Gq = _arr(el["G_q"](*a))
             dq = jnp.linalg.solve(Gq, G)
             err = jnp.maximum(jnp.abs(dq[0]) / jnp.abs(q[0]), jnp.abs(dq[1]) / (1 + jnp.abs(q[1])))
-            return q - dq, it + 1, err
+            return q - dq, it + 1, err, err_prev, legendre_holds(X, g, H)
+
+        def converged(err, err_prev):
+            floor = (err < NEWTON_FLOOR) & (err > 0.5 * err_prev)   # stagnant at round-off
+            return (err < NEWTON_TOL) | floor
 
         def cond(c):
-            return (c[1] < NEWTON_MAXITER) & ~(c[2] < NEWTON_TOL)
+            return (c[1] < NEWTON_MAXITER) & ~converged(c[2], c[3])
 
-        q, it, err = jax.lax.while_loop(cond, body, (q0, 0, jnp.inf))
-        ok = (err < NEWTON_TOL) & (q[0] > 0)
+        q, it, err, err_prev, elliptic = jax.lax.while_loop(
+            cond, body, (q0, 0, jnp.inf, jnp.inf, False))
+        # the root must satisfy the Legendre condition: where W is not convex in the
+        # meridian's derivatives, G = 0 has further roots that are not the physical state
+        # (checked at the last iterate, 1e-13 from q)
+        ok = converged(err, err_prev) & (q[0] > 0) & elliptic
         if implicit:
-            q = body((jax.lax.stop_gradient(q), 0, err))[0]
+            q = body((jax.lax.stop_gradient(q), 0, err, err_prev, elliptic))[0]
         return q, X_of(y, q, s, F, h), ok
 
     def rhs(y, s, F, lam, h):
@@ -159,4 +184,9 @@ def point_functions(model, material, rhob1, metric):
         fp = df - fq @ jnp.linalg.solve(Gq, dG)
         return f, J, fp, ok, q
 
-    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac}
+    def hessian(y, q, s, F, lam, h):
+        """The gradient and Hessian of W in X = (lam1, lam2, k1, k2) at the state (y, q)."""
+        _, g, H = jet(y, q, s, F, lam, h)
+        return g, H
+
+    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac, "hessian": hessian}

@@ -12,4 +12,12 @@ __all__ = ["ConvergenceError"]
 
 class ConvergenceError(RuntimeError):
     """A solver did not converge. The message says where (parameter value, position on the
-    meridian) and what to try (a smaller step, a finer discretisation, a closer guess)."""
+    meridian) and what to try (a smaller step, a finer discretisation, a closer guess).
+
+    ``partial``: what was converged before the failure, when there is such a thing (a
+    continuation that stalls carries its converged points and fold brackets), else None.
+    """
+
+    def __init__(self, message, partial=None):
+        super().__init__(message)
+        self.partial = partial

@@ -20,7 +20,7 @@ from .cache import atomic_write_text
 from .errors import ConvergenceError
 from .scene import Scene
 
-__all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
+__all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from", "ellipticity"]
 
 
 @dataclass(frozen=True)
@@ -39,6 +39,14 @@ class Equilibrium:
             split into the w_s and h^2/12 w_b parts.
         w: the BVP's observable in R0 (free edge: vertical displacement of the edge relative
             to the apex; clamped edge: of the apex relative to the edge, positive along +z).
+        legendre: per node, the Legendre condition of the axisymmetric energy: smallest
+            eigenvalue of the Hessian of W in (lam1, lam1 k1) (scaled; positive where the
+            reduced energy is elliptic, see :func:`ellipticity`).
+        hessian_block: per node, the same for the (lam1, k1) block of the Hessian of W.
+        pole_hessian_min: the same for the whole Hessian in (lam1, lam2, k1, k2) at the
+            first node (at the pole lam2 = lam1, k2 = k1 are tied).
+        thin_shell: max over the meridian of h |k_a| and of h |kb_a| (current and target
+            curvatures times thickness; the reduced model assumes both small).
         error_estimate: max change of (r, z, theta) and of w on the next finer
             discretisation (``nan`` when not requested).
         stats: solver statistics (method, resolution, iterations, wall time).
@@ -74,6 +82,10 @@ class Equilibrium:
     message: str
     z_apex: float = field(repr=False, default=0.0)
     profile: Any = field(repr=False, compare=False, default=None)
+    legendre: np.ndarray = field(repr=False, default=None)
+    hessian_block: np.ndarray = field(repr=False, default=None)
+    pole_hessian_min: float = math.nan
+    thin_shell: tuple = (math.nan, math.nan)
 
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
@@ -89,6 +101,44 @@ class Equilibrium:
         return y
 
 
+def ellipticity(X, g, H, h):
+    """Ellipticity of the reduced energy at states X (..., 4) = (lam1, lam2, k1, k2), from
+    the gradient g (..., 4) and Hessian H (..., 4, 4) of W in X.
+
+    Returns (legendre, block, full), smallest eigenvalues of:
+
+    * ``legendre``: the Hessian of W in the meridian's highest derivatives, the stretch
+      lam1 and kappa = lam1 k1 = -theta' / g1 (the rotation per reference length), at fixed
+      lower-order state (lam2, k2). This is the Legendre condition of the axisymmetric
+      energy, and exactly the condition under which the first-order formulation can solve
+      for (lam1, k1) (its inner Jacobian is this Hessian times a regular change of
+      variables). Because k1 = kappa / lam1 it is the (lam1, k1) block plus the moment term
+      W_k1 d^2 k1: a large moment can break it while the block is still definite;
+    * ``block``: the (lam1, k1) block of H;
+    * ``full``: the whole H (at the pole, where lam2 = lam1 and k2 = k1 are tied).
+
+    k and kappa are scaled by h / sqrt(12) first, so that bending and stretching eigenvalues
+    are both O(1); definiteness does not depend on the scaling (Sylvester).
+    """
+    X, g, H = np.asarray(X), np.asarray(g), np.asarray(H)
+    c = math.sqrt(12) / h
+    d = np.array([1.0, 1.0, c, c])
+    full = np.linalg.eigvalsh(H * d[:, None] * d[None, :])[..., 0]
+    blk = H[..., [0, 2], :][..., :, [0, 2]]
+    block = np.linalg.eigvalsh(blk * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
+    lam1, kap = X[..., 0], X[..., 0] * X[..., 2]
+    # X(lam1, kappa) = (lam1, lam2, kappa / lam1, k2): first and second derivatives of k1
+    J = np.zeros(lam1.shape + (2, 2))
+    J[..., 0, 0] = 1.0
+    J[..., 1, 0], J[..., 1, 1] = -kap / lam1**2, 1.0 / lam1
+    L = np.einsum("...ai,...ab,...bj->...ij", J, blk, J)
+    L[..., 0, 0] += g[..., 2] * 2 * kap / lam1**3
+    L[..., 0, 1] -= g[..., 2] / lam1**2
+    L[..., 1, 0] -= g[..., 2] / lam1**2
+    legendre = np.linalg.eigvalsh(L * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
+    return legendre, block, full
+
+
 def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
     """The :class:`Equilibrium` of a converged discrete solution U at p."""
     bvp = system.bvp
@@ -96,11 +146,15 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     t, Ys = system.nodes(U, p)
     Y = Ys.reshape(bvp.P, 6, t.size)
     s_all = np.stack([bvp.s_of(i, t) for i in range(bvp.P)])
-    X, _ = bvp.state(s_all, Y, p)
+    X, F, gw, Hw = bvp.state_and_hessian(s_all, Y, p)
     keep = [slice(None) if i == 0 else slice(1, None) for i in range(bvp.P)]  # interfaces once
     s = np.concatenate([s_all[i, k] for i, k in enumerate(keep)])
     y = np.concatenate([Y[i][:, k] for i, k in enumerate(keep)], axis=1)
     X = np.concatenate([X[i][:, k] for i, k in enumerate(keep)], axis=1)
+    F = np.concatenate([F[i][:, k] for i, k in enumerate(keep)], axis=1)
+    gw = np.concatenate([gw[i][:, k] for i, k in enumerate(keep)], axis=1)
+    Hw = np.concatenate([Hw[i][:, :, k] for i, k in enumerate(keep)], axis=-1)
+    legendre, block, full = ellipticity(X.T, gw.T, np.moveaxis(Hw, -1, 0), sc.h)
     dense_t = system.dense(U, p)
     z_apex = y[1, 0] + y[0, 0] * y[2, 0] / 2     # z(0) from the regular series at eps
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
@@ -112,7 +166,9 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb,
         stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.rise),
         error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
-        message="converged", z_apex=float(z_apex), profile=bvp.profile(dense_t))
+        message="converged", z_apex=float(z_apex), profile=bvp.profile(dense_t),
+        legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
+        thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())))
 
 
 def failed_equilibrium(scene, p, message, stats) -> Equilibrium:
@@ -174,6 +230,8 @@ class Branch:
         arclength: in the (w / H, p) plane, H the rise 1 - cos theta.
         folds: the folds passed, refined (:class:`Fold`).
         stats: method, resolution, points, evaluations, wall time.
+        stop: why the branch ended before its stopping criteria ("" if it met one), e.g. the
+            stall of a continuation followed with ``on_stall="stop"``.
     ``branch.equilibrium(i)`` is the full state at point i (built on demand).
     """
 
@@ -188,6 +246,7 @@ class Branch:
     stats: dict = field(repr=False)
     points: tuple = field(repr=False, compare=False, default=())
     system: Any = field(repr=False, compare=False, default=None)
+    stop: str = ""
 
     def equilibrium(self, i: int) -> Equilibrium:
         """The equilibrium at point i of the branch."""

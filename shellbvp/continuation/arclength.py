@@ -50,17 +50,22 @@ def _point(res: NewtonResult, v, dp, sign, arclength, n) -> Point:
 
 def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = ContinuationOptions(),
                      p_stop=(-math.inf, math.inf), monitor_stop=(-math.inf, math.inf),
-                     n_folds=None, direction=1.0, progress: Callable | None = None):
+                     n_folds=None, direction=1.0, progress: Callable | None = None,
+                     admissible: Callable | None = None):
     """Follow the branch of ``system`` through the solution near (U0, p0).
 
     Stops when p leaves ``p_stop``, the monitor leaves ``monitor_stop``, after ``n_folds``
     folds, or at ``options.max_steps`` points. ``direction``: sign of the first step in p.
-    ``progress(point)`` is called after every accepted point.
+    ``progress(point)`` is called after every accepted point. ``admissible(point)`` may
+    veto a converged point: it returns "" to accept it, else the reason why not; a vetoed
+    step is retried shorter, and a veto down to ``ds_min`` ends the branch as a stall does
+    (ConvergenceError with that reason and ``partial``).
 
     Returns (points, brackets): the points and, for every fold passed, the index pair
     (i, i + 1) of the points between which dp/ds changed sign.
     Raises ConvergenceError (with the Newton history) if the start does not converge or the
-    step falls below ``ds_min``.
+    step falls below ``ds_min``; in the latter case its ``partial`` is (points, brackets) so
+    far, every one of them converged.
     """
     o = options
     n = system.size
@@ -86,17 +91,23 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
         c = float(row @ b.U) + tp * b.p + ds
         res = newton(system, b.U + ds * b.dU, b.p + ds * tp, 0.0, tp, c, row=row,
                      tol=o.newton_tol, maxiter=o.newton_maxiter)
-        if not res.ok:
+        why = ""
+        if res.ok:
+            v, _, dp = tangent(res)
+            sign = 1.0 if float(v @ b.dU) / n + dp * tp > 0 else -1.0   # keep the orientation
+            arc = b.arclength + math.hypot(res.m - b.monitor, res.p - b.p)
+            new = _point(res, v, dp, sign, arc, n)
+            why = admissible(new) if admissible else ""
+        if not res.ok or why:
+            # a failed or vetoed step is retried shorter: a long step may jump to another
+            # solution; a veto that persists down to ds_min is where the branch ends
             ds /= 2
             if ds < o.ds_min:
-                raise ConvergenceError(
+                raise ConvergenceError(why or (
                     f"continuation stalled at p = {b.p:.10g} (monitor {b.monitor:.6g}): Newton "
-                    f"failed down to ds_min = {o.ds_min:g}; last history {res.history}")
+                    f"failed down to ds_min = {o.ds_min:g}; last history {res.history}"),
+                    partial=(pts, brackets))
             continue
-        v, _, dp = tangent(res)
-        sign = 1.0 if float(v @ b.dU) / n + dp * tp > 0 else -1.0   # keep the orientation
-        arc = b.arclength + math.hypot(res.m - b.monitor, res.p - b.p)
-        new = _point(res, v, dp, sign, arc, n)
         if new.tangent[1] * tp < 0:
             brackets.append((len(pts) - 1, len(pts)))
         pts.append(new)

@@ -1,0 +1,84 @@
+"""What Figs. 5-7 share: follow a budding branch to the paper's kbar (or to where it ends),
+take the equilibria at the requested kbar, and draw shapes and strains.
+
+Strains are the elastic mid-surface strains relative to the target metric,
+eps_aa = (a_aa - abar_aa) / (2 abar_aa) = (lam_a^2 - 1) / 2 (Green-Lagrange; a = 1
+meridional, 2 azimuthal): zero where the shell takes its target metric.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from shellbvp.problems import budding as bd
+
+#: the paper's last kbar per case (Section 5.4)
+PAPER_KBAR = {(0.0, 0.5): 300.0, (0.0, 1.0): 300.0, (0.0, 2.0): 128.0,
+              (0.5, 1.0): 200.0, (1.0, 1.0): 200.0, (2.0, 1.0): 76.0}
+
+
+def case(eta_a, eta_b, kbars, quick=False):
+    """Branch to max(kbars) and the equilibria at each kbar reached (the last point of the
+    branch stands in for the kbars past its end). Returns (branch, [(kbar, eq, reached)])."""
+    t0 = time.perf_counter()
+    b = bd.branch(eta_a, eta_b, max(kbars), nodes=24 if quick else None)
+    out = []
+    for k in kbars:
+        if k <= b.p[-1]:
+            i = int(np.argmin(np.abs(b.p - k)))
+            eq = bd.equilibrium_near(b, i, k)
+            out.append((k, eq, True))
+        else:
+            out.append((k, b.equilibrium(len(b.p) - 1), False))
+    print(f"eta_a = {eta_a:g}, eta_b = {eta_b:g}: branch to kbar = {b.p[-1]:.4f} "
+          f"({len(b.p)} points, {time.perf_counter() - t0:.1f} s)"
+          + (f"; stops: {b.stop}" if b.stop else ""))
+    return b, out
+
+
+def rows_of(eta_a, eta_b, kbar, eq, reached):
+    """CSV rows: the meridian of one equilibrium."""
+    return [[eta_a, eta_b, kbar, eq.p, int(reached), s, r, z, e1, e2, l1, l2, k1, k2]
+            for s, r, z, e1, e2, l1, l2, k1, k2 in zip(eq.s, eq.r, eq.z, eq.eps11, eq.eps22,
+                                                        eq.lam1, eq.lam2, eq.k1, eq.k2)]
+
+
+HEADER = ["eta_a", "eta_b", "kbar_requested", "kbar", "reached", "s_over_R0", "r_over_R0",
+          "z_over_R0", "eps11", "eps22", "lam1", "lam2", "k1_R0", "k2_R0"]
+
+
+def draw_shape(ax, eq, label, color):
+    """The meridian and its mirror image, z relative to the clamped edge; the patch thick."""
+    z = eq.z - eq.z[-1]
+    patch = eq.s <= bd.PATCH
+    for sign in (1, -1):
+        ax.plot(sign * eq.r, z, "-", color=color, lw=1.0, label=label if sign == 1 else None)
+        ax.plot(sign * eq.r[patch], z[patch], "-", color=color, lw=2.6)
+    ax.set_aspect("equal")
+    ax.set_xlabel(r"$r / R_0$")
+    ax.set_ylabel(r"$z / R_0$ (from the edge)")
+
+
+def draw_strains(ax, eq, color, label=None):
+    ax.plot(eq.s, eq.eps11, "-", color=color, label=label)
+    ax.plot(eq.s, eq.eps22, "--", color=color)
+    ax.axvspan(0, bd.PATCH, color="0.9", zorder=0)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel(r"$s / R_0$ (patch shaded)")
+    ax.set_ylabel(r"$\epsilon_{11}$ (solid), $\epsilon_{22}$ (dashed)")
+
+
+def title_of(eta_a, eta_b, kbar, eq, reached):
+    t = rf"$\eta_a$ = {eta_a:g}, $\eta_b$ = {eta_b:g}, $\bar\kappa$ = {kbar:g}"
+    if not reached:
+        t += f"\nbranch ends at {eq.p:.1f}: last valid shape"
+    return t
+
+
+def w_table(b, kbars=(10.0, 20.0, 64.0)):
+    """w_apex at a few kbar (nan past the end of the branch), by interpolation on the
+    branch points (the branch is smooth in kbar there)."""
+    return [float(np.interp(k, b.p, b.w)) if k <= b.p[-1] else math.nan for k in kbars]

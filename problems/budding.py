@@ -1,0 +1,179 @@
+"""Budding and vesiculation under a localized stimulus (paper Section 5.4, Figs. 5-7).
+
+Geometry: a clamped spherical cap of radius R0 = 0.25 and thickness h0 = 0.005, so
+h = h0/R0 = 0.02, opening half-angle Theta = pi/8 (lengths below in R0).
+Material and model: Ciarlet-Geymonat, lam = lambda*/mu* = 7.5, ``relaxed`` (rho1, rho2
+minimising the energy, the paper's eqs. (a), (b)); no through-thickness stimulus (rhob1 = 1).
+Stimulus (eq. (stimulusII)): on the patch s < Theta/4 around the apex, zero outside, with an
+exact interface at s = Theta/4:
+
+    abar_aa = (1 + gamma_a,a kbar / 5) a°_aa,   bbar_aa = (1 + gamma_b,a kbar) b°_aa,
+
+(a = 1 meridional, 2 azimuthal), so that the target stretch factors are
+g_a^2 = 1 + gamma_a,a kbar / 5 and the target curvatures kb_a = bbar_aa / abar_aa
+= -(1 + gamma_b,a kbar) / g_a^2 (the reference sphere has b°_aa / a°_aa = -1/R0 in our
+orientation). The anisotropy ratios eta = gamma_1 / gamma_2 are taken at equal L2 norm,
+gamma_1^2 + gamma_2^2 = 2: eta = 0.5 -> (0.632, 1.265), 1 -> (1, 1), 2 -> (1.265, 0.632);
+``eta_a = 0`` means no metric stimulus.
+Boundary conditions: edge clamped (r, z, theta at their reference values), apex free of point
+force (F_z = 0).
+Observable: w, the vertical displacement of the apex relative to the clamped edge, in R0,
+positive along +z (the cap's axis, outward at the apex): a bud grows with w > 0.
+Parameter: kbar, continued from 0 by pseudo-arclength.
+
+Where the branch cannot be continued, :func:`branch` stops at the last converged point and
+says why (``Branch.stop``); :func:`diagnose` reads the thin-shell validity and the
+ellipticity of the reduced energy along the branch, which tell a loss of the model's
+validity from a limit of the numerical formulation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import shellbvp
+from shellbvp import Chebyshev, ContinuationOptions, Scene
+
+__all__ = ["THETA", "H", "LAM", "PATCH", "scene", "gammas", "branch", "equilibrium",
+           "equilibrium_near", "diagnose", "Diagnosis"]
+
+THETA = math.pi / 8          # opening half-angle
+H = 0.005 / 0.25             # h0 / R0
+LAM = 7.5                    # lambda* / mu*
+PATCH = THETA / 4            # the stimulated patch is s < PATCH
+#: default Chebyshev degree per piece (each of the two pieces)
+NODES = 32
+#: continuation steps (arclength in the (w / H_rise, kbar) plane, mostly kbar): the branch
+#: is smooth in kbar over tens of units
+OPTIONS = ContinuationOptions(ds=2.0, ds_max=20.0, max_steps=400)
+
+
+def gammas(eta) -> tuple:
+    """(gamma_1, gamma_2) of the anisotropy ratio eta = gamma_1 / gamma_2 at
+    gamma_1^2 + gamma_2^2 = 2; eta = 0 gives (0, 0), no stimulus of that kind."""
+    if not (isinstance(eta, (int, float, np.floating)) and math.isfinite(eta) and eta >= 0):
+        raise ValueError(f"eta must be a finite number >= 0 (0: no stimulus of that kind), "
+                         f"got {eta!r}")
+    if eta == 0:
+        return 0.0, 0.0
+    g2 = math.sqrt(2.0 / (1.0 + eta * eta))
+    return eta * g2, g2
+
+
+@dataclass(frozen=True)
+class _Patch:
+    """The stimulus fields of eq. (stimulusII) (a frozen dataclass, so that equal scenes
+    compare equal and share compiled code)."""
+
+    ga1: float
+    ga2: float
+    gb1: float
+    gb2: float
+
+    def __call__(self, piece, s, kbar):
+        one = 0.0 * s + 1.0
+        if piece == 1:                       # outside the patch: the reference cap
+            return one, one, -one, -one
+        G1, G2 = 1.0 + self.ga1 * kbar / 5.0, 1.0 + self.ga2 * kbar / 5.0
+        return (G1 ** 0.5 * one, G2 ** 0.5 * one, -(1.0 + self.gb1 * kbar) / G1 * one,
+                -(1.0 + self.gb2 * kbar) / G2 * one)
+
+
+def scene(eta_a, eta_b) -> Scene:
+    """The budding scene with metric anisotropy eta_a (0: curvature stimulus only) and
+    curvature anisotropy eta_b (> 0)."""
+    ga, gb = gammas(eta_a), gammas(eta_b)
+    if eta_b == 0:
+        raise ValueError("eta_b must be > 0 (the curvature stimulus drives the bud), got 0")
+    return Scene(theta=THETA, h=H, lam=LAM, model="relaxed", material="cg", apex="free",
+                 edge="clamped", fields=_Patch(*ga, *gb), breaks=(PATCH,),
+                 metric=eta_a > 0, parameter="kbar")
+
+
+def _method(nodes):
+    return Chebyshev(nodes=NODES if nodes is None else nodes)
+
+
+def branch(eta_a, eta_b, kbar_max=300.0, *, nodes=None, method=None,
+           options: ContinuationOptions | None = None, progress=None,
+           energies=False) -> shellbvp.Branch:
+    """The branch kbar(w) from the undeformed cap up to ``kbar_max``.
+
+    ``w``: the apex displacement relative to the clamped edge (R0, positive along +z).
+    Folds passed are located and refined (``Branch.folds``). If the continuation stalls
+    before kbar_max, the branch ends at its last converged point and ``Branch.stop`` says
+    why. ``nodes``: Chebyshev degree per piece (default 32); ``method`` overrides it.
+    """
+    if not (isinstance(kbar_max, (int, float)) and math.isfinite(kbar_max) and kbar_max > 0):
+        raise ValueError(f"kbar_max must be a finite number > 0, got {kbar_max!r}")
+    return shellbvp.follow(scene(eta_a, eta_b), method=method or _method(nodes), p0=0.0,
+                           p_stop=(0.0, float(kbar_max)), options=options or OPTIONS,
+                           progress=progress, energies=energies, on_stall="stop",
+                           check_ellipticity=True)
+
+
+def equilibrium(eta_a, eta_b, kbar, *, nodes=None, method=None) -> shellbvp.Equilibrium:
+    """The equilibrium at exactly ``kbar``, continued from the undeformed cap (raises
+    ConvergenceError if the branch stops before)."""
+    if not (isinstance(kbar, (int, float)) and math.isfinite(kbar) and kbar >= 0):
+        raise ValueError(f"kbar must be a finite number >= 0, got {kbar!r}")
+    m = method or _method(nodes)
+    if kbar == 0:
+        return shellbvp.solve(scene(eta_a, eta_b), 0.0, method=m)
+    b = branch(eta_a, eta_b, kbar, method=m)
+    if b.p[-1] < kbar:
+        raise shellbvp.ConvergenceError(f"the branch stops at kbar = {b.p[-1]:.6g} < {kbar:g}: "
+                                        f"{b.stop}")
+    return equilibrium_near(b, int(np.argmin(np.abs(b.p - kbar))), kbar)
+
+
+def equilibrium_near(b: shellbvp.Branch, i: int, kbar, *,
+                     estimate_error: bool = False) -> shellbvp.Equilibrium:
+    """The equilibrium at exactly ``kbar``, solved with the branch's method from its point
+    i (which should be the nearest)."""
+    return shellbvp.solve(b.scene, float(kbar), method=_method(b.stats.get("nodes")),
+                          guess=b.equilibrium(i), estimate_error=estimate_error)
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """Validity and ellipticity along a branch, per point.
+
+    Attributes:
+        kbar, w: the branch points.
+        h_k, h_kb: max over the meridian of h |k_a| and h |kb_a| (thin-shell validity).
+        legendre: min over the meridian of the Legendre condition (smallest eigenvalue of the
+            scaled Hessian of W in (lam1, lam1 k1), :attr:`shellbvp.Equilibrium.legendre`);
+            s_legendre where.
+        block: min over the meridian of the same for the (lam1, k1) block of the Hessian.
+        pole: smallest eigenvalue of the whole scaled Hessian at the apex.
+    """
+
+    kbar: np.ndarray
+    w: np.ndarray
+    h_k: np.ndarray
+    h_kb: np.ndarray
+    legendre: np.ndarray
+    s_legendre: np.ndarray
+    block: np.ndarray
+    pole: np.ndarray
+
+
+def diagnose(b: shellbvp.Branch, every: int = 1) -> Diagnosis:
+    """:class:`Diagnosis` of every ``every``-th point of branch ``b`` (and its last)."""
+    idx = sorted(set(range(0, len(b.p), max(1, int(every)))) | {len(b.p) - 1})
+    rows = []
+    for i in idx:
+        try:
+            eq = b.equilibrium(i)
+        except shellbvp.ConvergenceError:   # the state cannot be evaluated: say nan
+            rows.append((b.p[i], b.w[i]) + (math.nan,) * 6)
+            continue
+        j = int(np.argmin(eq.legendre))
+        rows.append((eq.p, eq.w, *eq.thin_shell, eq.legendre[j], eq.s[j],
+                     eq.hessian_block.min(), eq.pole_hessian_min))
+    a = np.array(rows).T
+    return Diagnosis(*a)

@@ -1,0 +1,199 @@
+"""The budding scene (paper Section 5.4): a clamped cap with a localized, anisotropic
+stimulus on the patch s < Theta/4, two pieces with an exact interface, free apex.
+
+References: the undeformed cap (closed form) at zero stimulus; a second method (scipy's
+solve_bvp collocation, its own adaptive mesh) for the Chebyshev solution; the first variation
+of the energy by quadrature (complex step, not from the ODEs) for stationarity; sympy's
+Hessian of the derived energy for the ellipticity monitor.
+"""
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import shellbvp
+from shellbvp import Chebyshev, Collocation, ShellBVP
+from shellbvp.problems import budding as bd
+from shellbvp.results import ellipticity
+
+
+@lru_cache(maxsize=None)
+def at(eta_a, eta_b, kbar):
+    return bd.equilibrium(eta_a, eta_b, kbar)
+
+
+@pytest.mark.parametrize("eta_a,eta_b", [(0.0, 1.0), (1.0, 1.0), (2.0, 0.5)])
+def test_zero_stimulus_is_the_undeformed_cap(eta_a, eta_b):
+    eq = bd.equilibrium(eta_a, eta_b, 0.0)
+    s = eq.s
+    assert np.max(np.abs(eq.r - np.sin(s))) <= 1e-11
+    assert np.max(np.abs(eq.z - (np.cos(s) - 1))) <= 1e-11
+    assert np.max(np.abs(eq.theta - s)) <= 1e-11
+    assert abs(eq.w) <= 1e-12 and abs(eq.energy) <= 1e-15
+
+
+def test_scene_reads_like_the_paper():
+    sc = bd.scene(0.5, 2.0)
+    assert (sc.theta, sc.h, sc.lam, sc.edge, sc.apex) == (math.pi / 8, 0.02, 7.5, "clamped", "free")
+    assert sc.breaks == (math.pi / 32,) and sc.metric
+    assert not bd.scene(0.0, 1.0).metric
+    # equal L2 norms, the paper's rounded pairs
+    assert np.allclose(bd.gammas(0.5), (0.63, 1.26), atol=0.005)
+    assert np.allclose(bd.gammas(2.0), (1.26, 0.63), atol=0.005)
+    assert bd.gammas(1.0) == pytest.approx((1.0, 1.0))
+    # fields: on the patch g^2 = 1 + gamma_a kbar / 5, kb = -(1 + gamma_b kbar) / g^2
+    ga, gb = bd.gammas(0.5), bd.gammas(2.0)
+    g1, g2, kb1, kb2 = sc.fields(0, 0.01, 10.0)
+    assert g1**2 == pytest.approx(1 + 2 * ga[0]) and g2**2 == pytest.approx(1 + 2 * ga[1])
+    assert kb1 == pytest.approx(-(1 + 10 * gb[0]) / g1**2)
+    assert kb2 == pytest.approx(-(1 + 10 * gb[1]) / g2**2)
+    assert tuple(sc.fields(1, 0.2, 10.0)) == (1.0, 1.0, -1.0, -1.0)
+
+
+@pytest.mark.parametrize("kwargs,name", [
+    (dict(eta_a=-1.0, eta_b=1.0), "eta"), (dict(eta_a=0.0, eta_b=0.0), "eta_b"),
+    (dict(eta_a=math.nan, eta_b=1.0), "eta"), (dict(eta_a=0.0, eta_b=math.inf), "eta"),
+])
+def test_bad_anisotropy_is_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        bd.scene(**kwargs)
+
+
+@pytest.mark.parametrize("kbar_max", [0.0, -5.0, math.nan, "300"])
+def test_bad_kbar_max_is_named(kbar_max):
+    with pytest.raises(ValueError, match="kbar_max"):
+        bd.branch(0.0, 1.0, kbar_max)
+
+
+def test_second_method_agrees_at_kbar_20():
+    """Chebyshev (degree 32 and 40 per piece) against solve_bvp's adaptive collocation (tol
+    1e-10, its own mesh): w to <= 1e-7 R0 and the shape to <= 1e-7."""
+    for eta_a, eta_b in ((0.0, 1.0), (1.0, 1.0)):
+        spec = at(eta_a, eta_b, 20.0)
+        coll = shellbvp.solve(bd.scene(eta_a, eta_b), 20.0, method=Collocation(tol=1e-10),
+                              guess=spec, estimate_error=False)
+        grid = np.linspace(spec.s[0], bd.THETA, 400)
+        assert abs(spec.w - coll.w) <= 1e-7, (eta_a, spec.w, coll.w)
+        assert np.max(np.abs(spec(grid)[:3] - coll(grid)[:3])) <= 1e-7
+        assert spec.w > 0.01      # a bud: the apex rose by more than 1% of R0
+
+
+def _first_variation(eq, directions, n=3000):
+    """dE/d delta along admissible directions (phi = delta theta, psi = delta lam1) with
+    delta r, delta z = 0 at the clamped edge: each direction is completed by two fixed
+    ones so that the edge does not move. E = 2 pi int W g1 g2 sin s ds by Simpson's rule on
+    each piece (the fields jump at the interface), complex step in delta."""
+    from scipy.integrate import cumulative_simpson, simpson
+
+    sc = eq.scene
+    bvp = ShellBVP(sc)
+    pieces = [np.linspace(a, b, 2 * n + 1) for a, b in zip(bvp.a, bvp.b)]
+    state = []
+    for i, s in enumerate(pieces):
+        y = eq.unknowns(s)
+        X, F = bvp.state(s[None, :], y[None], eq.p)
+        state.append((s, y, X[0], F[0]))
+
+    def parts(phi, psi):
+        """(d lam1, d theta, d theta', d r, d z) on every piece; r, z integrated from the
+        pole across the interface."""
+        out, r0, z0 = [], 0.0, 0.0
+        for s, y, X, F in state:
+            g1 = F[0]
+            lam1, th = X[0], y[2]
+            dr = r0 + cumulative_simpson(g1 * (psi(s) * np.cos(th) - lam1 * np.sin(th) * phi(s)),
+                                         x=s, initial=0.0)
+            dz = z0 + cumulative_simpson(g1 * (-psi(s) * np.sin(th) - lam1 * np.cos(th) * phi(s)),
+                                         x=s, initial=0.0)
+            r0, z0 = dr[-1], dz[-1]
+            out.append((psi(s), phi(s), np.gradient(phi(s), s), dr, dz))
+        return out
+
+    def dE(var):
+        d = 1e-20
+        total = 0.0
+        for (s, y, X, F), (dl, dth, ddth, dr, _) in zip(state, var):
+            g1, g2, kb1, kb2 = F
+            lam1, k1 = X[0], X[2]
+            l1c = lam1 + 1j * d * dl
+            thp = -g1 * lam1 * k1 + 1j * d * ddth
+            rc = y[0] + 1j * d * dr
+            W = shellbvp.energy_density(l1c, rc / (g2 * np.sin(s)), -thp / (g1 * l1c),
+                                        -np.sin(y[2] + 1j * d * dth) / rc, kb1, kb2, h=sc.h,
+                                        lam=sc.lam, model=sc.model, material=sc.material)
+            total += simpson(np.imag(W) / d * g1 * g2 * np.sin(s), x=s)
+        return 2 * math.pi * total
+
+    T = sc.theta
+    fixers = [(lambda s: 0 * s, lambda s: np.sin(math.pi * s / T) ** 2),
+              (lambda s: np.sin(math.pi * s / T), lambda s: 0 * s)]
+    fix = [parts(*f) for f in fixers]
+    out = []
+    for phi, psi in directions:
+        v = parts(phi, psi)
+        # edge displacement of each, then coefficients that cancel it
+        A = np.array([[f[-1][3][-1], f[-1][4][-1]] for f in fix]).T
+        c = np.linalg.solve(A, -np.array([v[-1][3][-1], v[-1][4][-1]]))
+        comb = [tuple(a + c[0] * b + c[1] * e for a, b, e in zip(vp, f0, f1))
+                for vp, f0, f1 in zip(v, fix[0], fix[1])]
+        out.append(dE(comb))
+    return out
+
+
+def test_equilibrium_is_stationary_for_the_energy():
+    """The first variation vanishes at the kbar = 20 equilibrium (relative to its value at
+    an equilibrium of another kbar) for admissible variations (theta(0) = 0, edge clamped)."""
+    T = bd.THETA
+    directions = [(lambda s: np.sin(2 * math.pi * s / T), lambda s: 0 * s),
+                  (lambda s: s * (T - s) ** 2, lambda s: np.cos(3 * s)),
+                  (lambda s: 0 * s, lambda s: 1 + s)]
+    for eta_a, eta_b in ((0.0, 0.5), (1.0, 1.0)):
+        eq = at(eta_a, eta_b, 20.0)
+        off = at(eta_a, eta_b, 10.0)
+        object.__setattr__  # (frozen results: build the off state at kbar = 20 by a copy)
+        from dataclasses import replace
+        off20 = replace(off, p=20.0)
+        at_eq = _first_variation(eq, directions)
+        scale = _first_variation(off20, directions)
+        for a, b in zip(at_eq, scale):
+            assert abs(b) > 1e-6
+            assert abs(a) <= 1e-6 * abs(b), (eta_a, eta_b, a, b)
+
+
+def test_ellipticity_monitor_against_sympy():
+    """The Legendre condition, the Hessian of W(lam1, lam2, kappa / lam1, k2) in
+    (lam1, kappa) with kappa = lam1 k1, checked against sympy's Hessian of the derived
+    relaxed CG energy at a strongly bent state, by hand-built substitution."""
+    from shellbvp import reduction as R
+
+    h, lam = 0.02, 7.5
+    state = dict(l1=1.05, l2=0.97, k1=-12.0, k2=-3.0, kb1=-30.0, kb2=-25.0)
+    W = R.full_energy("relaxed", "cg", stimulus={R.rhob1: 1, R.rhob2: 0, R.rhob3: 0})
+    L1, KAP = sp.symbols("L1 KAP", positive=True)
+    Wn = W.subs({R.lam1: L1, R.k1: KAP / L1, R.lam2: state["l2"], R.k2: state["k2"],
+                 R.kb1: state["kb1"], R.kb2: state["kb2"], R.lam: lam, R.h: h})
+    Hs = sp.hessian(Wn, (L1, KAP)).subs({L1: state["l1"], KAP: state["l1"] * state["k1"]})
+    c = math.sqrt(12) / h
+    ref = np.linalg.eigvalsh(np.array(Hs, dtype=float) * np.array([[1, c], [c, c * c]]))[0]
+    # the W-jet in X = (lam1, lam2, k1, k2), also by sympy, through the monitor's chain rule
+    Xs = (R.lam1, R.lam2, R.k1, R.k2)
+    sub = {R.lam1: state["l1"], R.lam2: state["l2"], R.k1: state["k1"], R.k2: state["k2"],
+           R.kb1: state["kb1"], R.kb2: state["kb2"], R.lam: lam, R.h: h}
+    g = np.array([float(sp.diff(W, x).subs(sub)) for x in Xs])
+    H = np.array([[float(sp.diff(W, a, b).subs(sub)) for b in Xs] for a in Xs])
+    X = np.array([state["l1"], state["l2"], state["k1"], state["k2"]])
+    legendre, block, full = ellipticity(X, g, H, h)
+    assert legendre == pytest.approx(ref, rel=1e-9)
+    blk = H[np.ix_([0, 2], [0, 2])] * np.array([[1, c], [c, c * c]])
+    assert block == pytest.approx(np.linalg.eigvalsh(blk)[0], rel=1e-12)
+    # at this state the moment term matters: the two conditions differ
+    assert abs(legendre - block) > 1e-3 * abs(block)
+
+
+def test_undeformed_cap_is_elliptic_and_thin():
+    eq = bd.equilibrium(0.0, 1.0, 0.0)
+    assert np.all(eq.legendre > 0) and eq.pole_hessian_min > 0
+    assert eq.thin_shell == pytest.approx((0.02, 0.02), rel=1e-9)   # h |k| = h / R0
