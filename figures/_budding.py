@@ -32,11 +32,25 @@ def case(eta_a, eta_b, kbars, quick=False):
             eq = bd.equilibrium_near(b, i, k)
             out.append((k, eq, True))
         else:
-            out.append((k, b.equilibrium(len(b.p) - 1), False))
+            out.append((k, last_valid(b), False))
     print(f"eta_a = {eta_a:g}, eta_b = {eta_b:g}: branch to kbar = {b.p[-1]:.4f} "
           f"({len(b.p)} points, {time.perf_counter() - t0:.1f} s)"
           + (f"; stops: {b.stop}" if b.stop else ""))
     return b, out
+
+
+def last_valid(b):
+    """The equilibrium at the last branch point whose state can be evaluated off the
+    method's nodes (at the very end, where the Legendre condition is ~0, the inner solve on
+    the quadrature points may find no elliptic root)."""
+    from shellbvp import ConvergenceError
+
+    for i in range(len(b.p) - 1, -1, -1):
+        try:
+            return b.equilibrium(i)
+        except ConvergenceError:
+            continue
+    raise ConvergenceError("no point of the branch can be evaluated")
 
 
 def rows_of(eta_a, eta_b, kbar, eq, reached):
@@ -71,10 +85,11 @@ def draw_strains(ax, eq, color, label=None):
     ax.set_ylabel(r"$\epsilon_{11}$ (solid), $\epsilon_{22}$ (dashed)")
 
 
-def title_of(eta_a, eta_b, kbar, eq, reached):
+def title_of(eta_a, eta_b, kbar, eq, reached, end=None):
     t = rf"$\eta_a$ = {eta_a:g}, $\eta_b$ = {eta_b:g}, $\bar\kappa$ = {kbar:g}"
     if not reached:
-        t += f"\nbranch ends at {eq.p:.1f}: last valid shape"
+        t += (f"\nbranch ends at {end:.1f}; " if end is not None else "\n") + \
+            rf"last valid shape, $\bar\kappa$ = {eq.p:.1f}"
     return t
 
 

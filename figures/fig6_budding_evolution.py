@@ -1,7 +1,8 @@
 """Fig. 6 of Taffetani & Pezzulla: evolution of the bud under a curvature stimulus,
 eta_a = 0, eta_b = 0.5, at kbar = 64, 160, 300 (clamped cap R0 = 0.25, h0 = 0.005,
-Theta = pi/8, CG lam = 7.5, relaxed model); the stimulated patch drawn thick. A kbar past
-the end of the branch is drawn at the last valid state, and the legend says so.
+Theta = pi/8, CG lam = 7.5, relaxed model); the stimulated patch drawn thick. Where the
+branch ends before a requested kbar, the evolution is drawn instead at a quarter and a half
+of the branch's reach and at 99% of it, and the title says so.
 Writes fig6_budding_evolution.png and .csv.
 
     python figures/fig6_budding_evolution.py [--quick]
@@ -23,6 +24,13 @@ def main(argv=None):
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.5))
     b, states = case(0.0, 0.5, list(KBARS), quick=a.quick)
+    title = r"$\eta_a$ = 0, $\eta_b$ = 0.5"
+    if not all(reached for _, _, reached in states):
+        end = b.p[-1]
+        title += (rf": the branch ends at $\bar\kappa$ = {end:.1f} < {KBARS[0]:g} "
+                  f"(loss of ellipticity);\nshapes at a quarter, a half and 99% of it")
+        _, states = case(0.0, 0.5, [round(end / 4, 1), round(end / 2, 1), round(0.99 * end, 1)],
+                         quick=a.quick)
     rows = []
     for k, (kbar, eq, reached) in enumerate(states):
         rows += rows_of(0.0, 0.5, kbar, eq, reached)
@@ -30,7 +38,7 @@ def main(argv=None):
                  rf"$\bar\kappa$ = {kbar:g}: branch ends at {eq.p:.1f} (last valid shape)")
         draw_shape(ax, eq, label, f"C{k}")
     ax.legend(fontsize=7)
-    ax.set_title(r"$\eta_a$ = 0, $\eta_b$ = 0.5", fontsize=9)
+    ax.set_title(title, fontsize=9)
     write_csv(a.out / "fig6_budding_evolution.csv", HEADER, rows)
     finish(fig, a.out, "fig6_budding_evolution")
     print(f"total {time.perf_counter() - t0:.1f} s")

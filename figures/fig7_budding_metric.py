@@ -29,7 +29,7 @@ def main(argv=None):
         b, ((_, eq, reached),) = case(ea, eb, [kbar], quick=a.quick)
         rows += rows_of(ea, eb, kbar, eq, reached)
         draw_shape(axes[0, k], eq, None, f"C{k}")
-        axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached), fontsize=9)
+        axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1]), fontsize=9)
         draw_strains(axes[1, k], eq, f"C{k}")
         axes[1, k].set_title(f"({'def'[k]}) strains", fontsize=9)
         print(f"   w_apex/R0 at kbar = 10, 20, 64: {w_table(b)}")

@@ -9,10 +9,19 @@ bending and membrane unknowns have the same size):
   methods keep one state per piece and impose continuity of all six components at every
   interface, so a jump of the stimulus is exact (the meridional stretch may jump there);
 * **pole**, at s = eps = ``POLE_OFFSET`` theta: the pole is a regular singular point whose
-  regular solution has lam1 = lam2 + O(s^2), k1 = k2 + O(s^2) and
-  z(0) = z(eps) + r theta / 2 + O(eps^4); the conditions are lam1 = lam2, k1 = k2 and
+  regular solution has g1 lam1 = g2 lam2 + O(s^2) (equal actual stretches: r ~ g1 lam1 s and
+  lam2 = r / (g2 sin s); lam1 = lam2 only without a metric stimulus), k1 = k2 + O(s^2) and
+  z(0) = z(eps) + r theta / 2 + O(eps^4); the conditions are g1 lam1 = g2 lam2, k1 = k2 and
   z(0) = 0 (apex ``held``) or f_z = 0 (apex ``free``). Their O(eps^2) relative error gives
-  an O(eps^4) error in the solution;
+  an O(eps^4) error in the solution. Where the target curvature is anisotropic at the apex
+  (kb1 != kb2) the solution is not regular: k1 - k2 tends to a nonzero constant and both
+  curvatures grow like log s (as for a plate with anisotropic natural curvature: the moment
+  balance (s M1)' = M2 near s = 0 with M linear in k forces k1 - k2 = (1 - nu)(k*1 - k*2)/2,
+  nu = W_k1k2 / W_k1k1, k* where the moments vanish). There the condition is k1 - k2 = A,
+  which excludes the 1/s mode as k1 = k2 does at a regular apex: the shape and w converge,
+  the apex curvatures do not (they diverge like log s). A target metric anisotropic at the
+  apex (g1 != g2, a cone) would need the same treatment of the stretches; it keeps
+  g1 lam1 = g2 lam2 at eps, which is exact only for a regular membrane state;
 * **edge**, at s = theta: m = f_r = f_z = 0 (``free``) or r, z, theta at the reference
   sphere's values (``clamped``);
 * **observable** (the branch monitor), in units of the rise H = 1 - cos theta: for a free
@@ -139,7 +148,7 @@ class _Packed:
 
 
 @lru_cache(maxsize=32)
-def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
+def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False):
     """The scene's compiled functions (see :class:`ShellBVP`)."""
     pf = point_functions(model, material, rhob1, metric)
 
@@ -191,9 +200,21 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
 
     def pole(ya, p, eps, lam, h):
         F0 = fields_at(0, eps, p)
-        _, X, ok = pf["algebraic"](ya, eps, F0, lam, h, implicit=True)
+        q, X, ok = pf["algebraic"](ya, eps, F0, lam, h, implicit=True)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
-        start = jnp.stack([X[0] - X[1], X[2] - X[3], third])
+        # regularity of the deformed surface at the apex: equal actual stretches
+        # g1 lam1 = g2 lam2 (r ~ g1 lam1 s and lam2 = r / (g2 sin s)) and k1 = k2
+        dk = jnp.zeros(())
+        if log_apex:
+            # anisotropic target curvature at the apex: the finite-energy local solution has
+            # k1 - k2 -> A = (1 - nu) (k*1 - k*2) / 2 (curvatures ~ A log s), nu = W_k1k2 /
+            # W_k1k1 and k* the curvatures that make the moments vanish (W is quadratic in
+            # k); k1 - k2 = A at eps excludes the 1/s mode exactly as k1 = k2 does for a
+            # regular apex, where A = 0
+            g, H = pf["hessian"](ya, q, eps, F0, lam, h)
+            kstar = X[2:] - jnp.linalg.solve(H[2:, 2:], g[2:])
+            dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
+        start = jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
         return start, (start, ok, F0)
 
     def edge_conditions(yb, theta):
@@ -237,6 +258,21 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge):
         observable=_Packed(jax.value_and_grad(observable, argnums=(0, 1))),
         vector_field=vector_field,
     )
+
+
+#: parameter values at which the fields are probed for anisotropy at the apex
+APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
+
+
+def _anisotropic_apex(fields, eps) -> bool:
+    """Whether the target curvature is anisotropic at the apex (kb1 != kb2 at s = eps for
+    some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A
+    (module docstring), which costs third derivatives of W in the compiled boundary rows."""
+    for p in APEX_PROBES:
+        F = [float(v) for v in fields(0, eps, p)]
+        if F[2] != F[3] and all(math.isfinite(v) for v in F):
+            return True
+    return False
 
 
 @lru_cache(maxsize=64)
@@ -292,8 +328,11 @@ class ShellBVP:
         if problem:
             raise ValueError(problem)
         self._layouts = {}
+        #: kb1 != kb2 at the apex: curvatures diverge like log s there (module docstring)
+        self.anisotropic_apex = _anisotropic_apex(scene.fields, eps)
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
-                           bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge)
+                           bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge,
+                           self.anisotropic_apex)
         self.evaluations = 0
 
     @property

@@ -121,13 +121,14 @@ def point_functions(model, material, rhob1, metric):
         return (L00 > 0) & (L00 * L11 - L01 * L01 > 0)
 
     def algebraic(y, s, F, lam, h, q_init=None, implicit=False):
-        # Start from the pole-like guess (lam2, k2), or from q_init where it is finite (a warm
+        # Start from the pole-like guess (r / (g1 sin s), k2) (= (lam2, k2) without metric
+        # stimulus; g1 lam1 = g2 lam2 at the pole), or from q_init where it is finite (a warm
         # start from the previous Newton iterate of an outer solver).
         # implicit=True: for callers that differentiate q (the pole conditions). The loop is
         # then cut from differentiation and one Newton step is taken from its fixed point:
         # that step's derivative is exactly the implicit one, -G_q^-1 G_y (G = 0 there), at
         # the cost of one W-jet instead of carrying every tangent through the whole loop.
-        q0 = jnp.array([y[0] / (F[1] * jnp.sin(s)), -jnp.sin(y[2]) / y[0]])
+        q0 = jnp.array([y[0] / (F[0] * jnp.sin(s)), -jnp.sin(y[2]) / y[0]])
         if q_init is not None:
             q0 = jnp.where(jnp.isfinite(q_init) & (q_init[0] > 0), q_init, q0)
 

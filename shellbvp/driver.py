@@ -75,6 +75,12 @@ def _stall_reason(system, pts, message) -> str:
     p1, p2 = pts[-2].p, pts[-1].p
     p_star = p2 - L2 * (p2 - p1) / (L2 - L1) if L2 != L1 else p2
     name = system.bvp.scene.parameter
+    if system.bvp.anisotropic_apex and s2 < 2 * system.bvp.eps:
+        return (f"the reduced energy loses ellipticity at the pole offset s = {s2:.4g} as "
+                f"{name} -> ~{p_star:.6g} (Legendre condition {L0:.3g} -> {L2:.3g}): the "
+                f"target curvature is anisotropic at the apex, where the curvatures diverge "
+                f"like log s, so this stop moves with the pole offset eps; a limit of the "
+                f"formulation at the apex, not a property of the shell at finite s")
     return (f"the reduced energy loses ellipticity at s = {s2:.4g}: its Legendre condition "
             f"(Hessian of W in the stretch lam1 and the rotation rate lam1 k1) falls from "
             f"{L0:.3g} at the start to {L2:.3g} at {name} = {p2:.6g}, extrapolating to zero "

@@ -24,6 +24,13 @@ from .models import MATERIALS, MODELS
 
 __all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
 
+#: smallest opening angle: the rise 1 - cos Theta ~ Theta^2/2 keeps ~10 digits above it
+THETA_MIN = 1e-3
+#: smallest thickness: the edge layer (width ~ sqrt(h) R0) then needs ~ 6 Theta/sqrt(h)
+#: Chebyshev nodes, at the upper end of what the methods take
+H_MIN = 1e-6
+#: largest lambda*/mu*: lam = 1e8 is Poisson ratio 0.5 - 5e-9
+LAM_MAX = 1e8
 APEX = ("held", "free")   # held: z(0) = 0 (vertical point force allowed); free: F_z = 0
 EDGE = ("free", "clamped")
 
@@ -77,13 +84,19 @@ class Scene:
         return self.nu if self.material == "koiter" else self.lam
 
     def __post_init__(self):
-        checks.check_open_interval("theta", self.theta, 0.0, math.pi,
-                                    " (opening half-angle Theta in radians)")
-        checks.check_open_interval("h", self.h, 0.0, 1.0, " (h = h0/R0, h0 < R0)")
+        checks.check_open_interval("theta", self.theta, THETA_MIN, math.pi,
+                                    " (opening half-angle Theta in radians; below "
+                                    f"{THETA_MIN:g} the rise 1 - cos Theta is lost to round-off)")
+        checks.check_open_interval("h", self.h, H_MIN, 1.0,
+                                   f" (h = h0/R0, h0 < R0; below {H_MIN:g} the edge layer of "
+                                   f"width ~ sqrt(h) is beyond every method's resolution)")
         checks.check_choice("model", self.model, MODELS)
         checks.check_choice("material", self.material, MATERIALS)
         if self.material == "cg":
-            checks.check_positive("lam", self.lam)
+            checks.check_open_interval("lam", self.lam, 0.0, LAM_MAX,
+                                       " (lambda*/mu*; beyond, the bulk term swamps the "
+                                       "shear one in double precision: use material='nh' for "
+                                       "an incompressible shell)")
         if self.material == "koiter":
             checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
         checks.check_positive("rhob1", self.rhob1)

@@ -47,6 +47,7 @@ def test_zero_stimulus_is_the_undeformed_cap():
     assert abs(eq.w) < 1e-12
 
 
+@pytest.mark.slow  # minutes; the default suite keeps a faster check of the same kind
 def test_spectral_equilibrium_agrees_with_collocation():
     ref = ce.equilibrium(3.0, THETA, H0, method=Collocation(tol=1e-8))
     eq = solve(CAP, 3.0, method=Chebyshev(nodes=32), guess=ref)
@@ -81,6 +82,7 @@ def test_snap_curvature_error_estimate_bounds_the_error():
         assert res.ok and res.p < r.kappa_s
 
 
+@pytest.mark.slow  # minutes; the default suite keeps a faster check of the same kind
 def test_spectral_and_shooting_agree_on_kappa_s():
     a = ce.snap_curvature(THETA, H0, 1.0, tol=1e-9)
     b = ce.snap_curvature(THETA, H0, 1.0, method="shooting")

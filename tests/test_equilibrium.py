@@ -122,6 +122,7 @@ def test_result_does_not_depend_on_the_pole_offset():
     assert abs(w[0] - w[2]) <= 1e-9 and abs(w[1] - w[2]) <= 1e-10
 
 
+@pytest.mark.slow  # minutes; the default suite keeps a faster check of the same kind
 def test_collocation_order_under_mesh_refinement():
     """solve_bvp is 4th-order collocation: error in w ~ nodes^-4 (fitted slope in [-5, -3])."""
     ref = solve(CAP, 2.0, method=Collocation(tol=1e-9), estimate_error=False)
@@ -151,6 +152,7 @@ def test_shooting_order_under_step_refinement():
     assert -6.2 <= slope <= -4.5, (err, slope)
 
 
+@pytest.mark.slow  # minutes; the default suite keeps a faster check of the same kind
 def test_exact_interfaces_are_the_limit_of_smoothed_steps():
     """A patch stimulus s < Theta/4 (clamped edge, apex free): the two-piece solve with exact
     interface conditions is the limit of one-piece solves with tanh-smoothed steps."""

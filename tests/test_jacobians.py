@@ -60,7 +60,8 @@ def test_boundary_jacobians(state):
 
 
 @pytest.mark.parametrize("method", [Chebyshev(nodes=12), Collocation(nodes=12),
-                                    Shooting(segments=3, rtol=1e-12)],
+                                    pytest.param(Shooting(segments=3, rtol=1e-12),
+                                                 marks=pytest.mark.slow)],
                          ids=["spectral", "collocation", "shooting"])
 def test_discrete_system_jacobians(state, method):
     bvp, _, _, p = state
