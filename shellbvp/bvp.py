@@ -44,6 +44,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .compiled import point_functions
+from .packed import Packed
 from .errors import ConvergenceError
 from .jaxsetup import jax
 from .scene import Scene
@@ -97,54 +98,6 @@ class Nodal(NamedTuple):
 
 def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
-
-
-class _Packed:
-    """A jitted function whose arguments go to the device as ONE float64 vector and whose
-    outputs (a pytree of arrays) come back as ONE vector, unpacked into numpy views.
-
-    Each host-to-device argument costs ~15 us and each device-to-host output ~5 us; a
-    collocation evaluation has 11 arguments and 15 outputs, which made the host overhead of
-    a small system (Chebyshev N = 32) half of its evaluation. Shapes and dtypes of the
-    arguments fix the layouts, found once per shape (the output's by ``jax.eval_shape``).
-    Integer arguments travel as float64 (exact below 2^53).
-    """
-
-    def __init__(self, fn):
-        self._fn = fn
-        self._programs = {}
-
-    def _program(self, args):
-        shapes = [np.shape(a) for a in args]
-        dtypes = [np.asarray(a).dtype for a in args]
-        sizes = [math.prod(sh) for sh in shapes]
-        starts = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-
-        def unpack(flat):
-            return [flat[a:a + n].reshape(sh).astype(dt) if sh else flat[a].astype(dt)
-                    for a, n, sh, dt in zip(starts, sizes, shapes, dtypes)]
-
-        def packed(flat):
-            out = self._fn(*unpack(flat))
-            return jnp.concatenate([jnp.ravel(x).astype(jnp.float64)
-                                    for x in jax.tree_util.tree_leaves(out)])
-
-        spec = [jax.ShapeDtypeStruct(sh, dt) for sh, dt in zip(shapes, dtypes)]
-        leaves, tree = jax.tree_util.tree_flatten(jax.eval_shape(self._fn, *spec))
-        ends = np.cumsum([math.prod(x.shape) for x in leaves])
-        layout = [(e - math.prod(x.shape), e, x.shape, x.dtype) for x, e in zip(leaves, ends)]
-        return jax.jit(packed), tree, layout
-
-    def __call__(self, *args):
-        key = tuple(map(np.shape, args))    # a call site passes the same dtypes every time
-        if key not in self._programs:
-            self._programs[key] = self._program(args)
-        program, tree, layout = self._programs[key]
-        flat = np.concatenate(list(map(np.ravel, args)), dtype=np.float64)
-        out = np.asarray(program(flat))
-        return jax.tree_util.tree_unflatten(tree, [
-            out[a:b].reshape(shape) if dtype == np.float64 else
-            out[a:b].reshape(shape).astype(dtype) for a, b, shape, dtype in layout])
 
 
 @lru_cache(maxsize=32)
@@ -251,11 +204,11 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(
-        collocate=_Packed(collocate),
-        nodal=_Packed(nodal),
-        state=_Packed(state_along),
-        boundary=_Packed(boundary_jac),
-        observable=_Packed(jax.value_and_grad(observable, argnums=(0, 1))),
+        collocate=Packed(collocate),
+        nodal=Packed(nodal),
+        state=Packed(state_along),
+        boundary=Packed(boundary_jac),
+        observable=Packed(jax.value_and_grad(observable, argnums=(0, 1))),
         vector_field=vector_field,
     )
 
@@ -467,7 +420,7 @@ class ShellBVP:
     def state_and_hessian(self, s, Y, p):
         """:meth:`state` and the gradient (P, 4, m) and Hessian (P, 4, 4, m) of W in X at
         every node: the ellipticity of the reduced energy is read from them
-        (:func:`shellbvp.results.ellipticity`)."""
+        (:func:`shellbvp.ellipticity.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
         X, F, ok, gw, Hw = self._scan(s, Y, p)

@@ -110,7 +110,7 @@ def point_functions(model, material, rhob1, metric):
 
     def legendre_holds(X, g, H):
         # The Hessian of W in (lam1, kappa = lam1 k1) at fixed (lam2, k2), positive definite
-        # (:func:`shellbvp.results.ellipticity` gives its eigenvalues): k1 = kappa / lam1,
+        # (:func:`shellbvp.ellipticity.ellipticity` gives its eigenvalues): k1 = kappa / lam1,
         # so it is J^T H_(lam1, k1) J plus the moment W_k1 times the Hessian of k1.
         lam1, kap = X[0], X[0] * X[2]
         a11, a13, a33 = H[0, 0], H[0, 2], H[2, 2]

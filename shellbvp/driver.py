@@ -16,7 +16,8 @@ from .bvp import ShellBVP, reference_state
 from .continuation import ContinuationOptions, newton, pseudo_arclength, refine_fold, tangent
 from .errors import ConvergenceError
 from .methods import as_method
-from .results import Branch, Equilibrium, ellipticity, equilibrium_from, failed_equilibrium
+from .ellipticity import elliptic_point, stall_reason
+from .results import Branch, Equilibrium, equilibrium_from, failed_equilibrium
 from .scene import Scene
 
 __all__ = ["solve", "follow", "at_monitor", "MonitorPoint", "SOLVE_NEWTON_TOL"]
@@ -27,67 +28,6 @@ SOLVE_NEWTON_TOL = 1e-10
 SOLVE_MAXITER = 40
 #: points per piece at which a solution and its refinement are compared (error estimate)
 ERROR_SAMPLES = 65
-#: a stall is put down to a loss of ellipticity when the Legendre condition at the last
-#: point has fallen below this fraction of its value at the start of the branch
-LEGENDRE_LOST = 0.02
-
-
-def legendre_along(system, U, p):
-    """(min over the nodes of the Legendre condition, s where): see
-    :func:`shellbvp.results.ellipticity`."""
-    bvp = system.bvp
-    t, Ys = system.nodes(U, p)
-    s_all = np.stack([bvp.s_of(i, t) for i in range(bvp.P)])
-    X, _, g, H = bvp.state_and_hessian(s_all, Ys.reshape(bvp.P, bvp.n, t.size), p)
-    leg, _, _ = ellipticity(np.moveaxis(X, 1, -1), np.moveaxis(g, 1, -1),
-                            np.moveaxis(H, (1, 2), (-2, -1)), bvp.scene.h)
-    j = np.unravel_index(int(np.argmin(leg)), leg.shape)
-    return float(leg[j]), float(s_all[j])
-
-
-def _elliptic(system, pt) -> str:
-    """"" if the Legendre condition holds at every node of point pt, else why not."""
-    try:
-        L, s = legendre_along(system, pt.U, pt.p)
-    except ConvergenceError as exc:
-        return f"the state at {system.bvp.scene.parameter} = {pt.p:.6g} cannot be evaluated: {exc}"
-    if L > 0:
-        return ""
-    return (f"the reduced energy loses ellipticity before {system.bvp.scene.parameter} = "
-            f"{pt.p:.6g}: its Legendre condition (Hessian of W in the stretch lam1 and the "
-            f"rotation rate lam1 k1) is {L:.3g} < 0 at s = {s:.4g} there; past this the "
-            f"equations admit solutions that depend on the discretisation (not physics)")
-
-
-def _stall_reason(system, pts, message) -> str:
-    """The reason of a continuation stall: a loss of ellipticity of the reduced energy when
-    the Legendre condition falls to ~0 along the branch (then no formulation in the
-    meridian's derivatives has a smooth solution beyond), else the solver's message."""
-    if len(pts) < 3:
-        return message
-    try:
-        L0, _ = legendre_along(system, pts[0].U, pts[0].p)
-        (L1, _), (L2, s2) = (legendre_along(system, q.U, q.p) for q in pts[-2:])
-    except ConvergenceError:
-        return message
-    if not (L0 > 0 and L2 < LEGENDRE_LOST * L0):
-        return message
-    p1, p2 = pts[-2].p, pts[-1].p
-    p_star = p2 - L2 * (p2 - p1) / (L2 - L1) if L2 != L1 else p2
-    name = system.bvp.scene.parameter
-    if system.bvp.anisotropic_apex and s2 < 2 * system.bvp.eps:
-        return (f"the reduced energy loses ellipticity at the pole offset s = {s2:.4g} as "
-                f"{name} -> ~{p_star:.6g} (Legendre condition {L0:.3g} -> {L2:.3g}): the "
-                f"target curvature is anisotropic at the apex, where the curvatures diverge "
-                f"like log s, so this stop moves with the pole offset eps; a limit of the "
-                f"formulation at the apex, not a property of the shell at finite s")
-    return (f"the reduced energy loses ellipticity at s = {s2:.4g}: its Legendre condition "
-            f"(Hessian of W in the stretch lam1 and the rotation rate lam1 k1) falls from "
-            f"{L0:.3g} at the start to {L2:.3g} at {name} = {p2:.6g}, extrapolating to zero "
-            f"at {name} ~ {p_star:.6g}; the first-order system has no solution past it and "
-            f"the reduced model no smooth one (solver: {message.splitlines()[0][:160]})")
-
-
 def _check_p(scene, p):
     if np.ndim(p) != 0 or not np.isfinite(p):
         raise ValueError(f"{scene.parameter} must be a finite scalar, got {p!r}")
@@ -190,7 +130,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     before a stall (no step down to ``options.ds_min`` converges), with the reason in
     ``Branch.stop``; nothing past the last converged point is returned.
     ``check_ellipticity=True`` evaluates the Legendre condition of the reduced energy
-    (:func:`shellbvp.results.ellipticity`) at every point and ends the branch before the
+    (:func:`shellbvp.ellipticity.ellipticity`) at every point and ends the branch before the
     first point where it fails anywhere on the meridian: past it the energy is not elliptic,
     the equations admit solutions that depend on the discretisation, and the branch would
     no longer be physics (a crease forms below the resolution).
@@ -208,7 +148,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     system = as_method(method).discretise(bvp)
     H = bvp.rise
     stop = ""
-    admissible = _elliptic if check_ellipticity else None
+    admissible = elliptic_point if check_ellipticity else None
     try:
         pts, brackets = pseudo_arclength(
             system, system.from_profile(bvp.reference), float(p0), options=options,
@@ -217,7 +157,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     except ConvergenceError as exc:
         if on_stall == "raise" or exc.partial is None:
             raise
-        (pts, brackets), stop = exc.partial, _stall_reason(system, exc.partial[0], str(exc))
+        (pts, brackets), stop = exc.partial, stall_reason(system, exc.partial[0], str(exc))
     folds = []
     for i, j in brackets:
         try:
@@ -228,7 +168,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
             # p and w turn back together: not a fold of p(w) but a singular point (or the
             # edge of the model's validity); keep the branch up to it
             pts = pts[:i + 1]
-            stop = _stall_reason(system, pts, f"the branch turns back in {scene.parameter} "
+            stop = stall_reason(system, pts, f"the branch turns back in {scene.parameter} "
                                  f"and w at once after {scene.parameter} = {pts[i].p:.6g}: "
                                  f"{exc}")
             break

@@ -17,10 +17,11 @@ from typing import Any
 import numpy as np
 
 from .cache import atomic_write_text
+from .ellipticity import ellipticity
 from .errors import ConvergenceError
 from .scene import Scene
 
-__all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from", "ellipticity"]
+__all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
 
 
 @dataclass(frozen=True)
@@ -41,7 +42,7 @@ class Equilibrium:
             to the apex; clamped edge: of the apex relative to the edge, positive along +z).
         legendre: per node, the Legendre condition of the axisymmetric energy: smallest
             eigenvalue of the Hessian of W in (lam1, lam1 k1) (scaled; positive where the
-            reduced energy is elliptic, see :func:`ellipticity`).
+            reduced energy is elliptic, see :func:`shellbvp.ellipticity.ellipticity`).
         hessian_block: per node, the same for the (lam1, k1) block of the Hessian of W.
         pole_hessian_min: the same for the whole Hessian in (lam1, lam2, k1, k2) at the
             first node (at the pole lam2 = lam1, k2 = k1 are tied).
@@ -99,44 +100,6 @@ class Equilibrium:
         y[1] -= self.z_apex
         y[3:] *= self.scene.h**2 / 12
         return y
-
-
-def ellipticity(X, g, H, h):
-    """Ellipticity of the reduced energy at states X (..., 4) = (lam1, lam2, k1, k2), from
-    the gradient g (..., 4) and Hessian H (..., 4, 4) of W in X.
-
-    Returns (legendre, block, full), smallest eigenvalues of:
-
-    * ``legendre``: the Hessian of W in the meridian's highest derivatives, the stretch
-      lam1 and kappa = lam1 k1 = -theta' / g1 (the rotation per reference length), at fixed
-      lower-order state (lam2, k2). This is the Legendre condition of the axisymmetric
-      energy, and exactly the condition under which the first-order formulation can solve
-      for (lam1, k1) (its inner Jacobian is this Hessian times a regular change of
-      variables). Because k1 = kappa / lam1 it is the (lam1, k1) block plus the moment term
-      W_k1 d^2 k1: a large moment can break it while the block is still definite;
-    * ``block``: the (lam1, k1) block of H;
-    * ``full``: the whole H (at the pole, where lam2 = lam1 and k2 = k1 are tied).
-
-    k and kappa are scaled by h / sqrt(12) first, so that bending and stretching eigenvalues
-    are both O(1); definiteness does not depend on the scaling (Sylvester).
-    """
-    X, g, H = np.asarray(X), np.asarray(g), np.asarray(H)
-    c = math.sqrt(12) / h
-    d = np.array([1.0, 1.0, c, c])
-    full = np.linalg.eigvalsh(H * d[:, None] * d[None, :])[..., 0]
-    blk = H[..., [0, 2], :][..., :, [0, 2]]
-    block = np.linalg.eigvalsh(blk * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
-    lam1, kap = X[..., 0], X[..., 0] * X[..., 2]
-    # X(lam1, kappa) = (lam1, lam2, kappa / lam1, k2): first and second derivatives of k1
-    J = np.zeros(lam1.shape + (2, 2))
-    J[..., 0, 0] = 1.0
-    J[..., 1, 0], J[..., 1, 1] = -kap / lam1**2, 1.0 / lam1
-    L = np.einsum("...ai,...ab,...bj->...ij", J, blk, J)
-    L[..., 0, 0] += g[..., 2] * 2 * kap / lam1**3
-    L[..., 0, 1] -= g[..., 2] / lam1**2
-    L[..., 1, 0] -= g[..., 2] / lam1**2
-    legendre = np.linalg.eigvalsh(L * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
-    return legendre, block, full
 
 
 def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:

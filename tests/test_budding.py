@@ -17,7 +17,7 @@ import sympy as sp
 import shellbvp
 from shellbvp import Chebyshev, Collocation, ShellBVP
 from shellbvp.problems import budding as bd
-from shellbvp.results import ellipticity
+from shellbvp.ellipticity import ellipticity
 
 
 @lru_cache(maxsize=None)
