@@ -97,3 +97,29 @@ def w_table(b, kbars=(10.0, 20.0, 64.0)):
     """w_apex at a few kbar (nan past the end of the branch), by interpolation on the
     branch points (the branch is smooth in kbar there)."""
     return [float(np.interp(k, b.p, b.w)) if k <= b.p[-1] else math.nan for k in kbars]
+
+
+def panels(cases, stem, argv=None, doc=""):
+    """Figs. 5 and 7: for each (eta_a, eta_b) the shape at the paper's kbar (top row) and
+    the strains (bottom row), or the last valid state where the branch ends first; writes
+    ``stem``.png and .csv."""
+    from _common import finish, parser, pyplot, write_csv
+
+    a = parser(doc.splitlines()[0]).parse_args(argv)
+    t0 = time.perf_counter()
+    plt = pyplot()
+    fig, axes = plt.subplots(2, len(cases), figsize=(13, 7))
+    rows = []
+    for k, (ea, eb) in enumerate(cases):
+        kbar = PAPER_KBAR[(ea, eb)]
+        b, ((_, eq, reached),) = case(ea, eb, [kbar], quick=a.quick)
+        rows += rows_of(ea, eb, kbar, eq, reached)
+        draw_shape(axes[0, k], eq, None, f"C{k}")
+        axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1]),
+                             fontsize=9)
+        draw_strains(axes[1, k], eq, f"C{k}")
+        axes[1, k].set_title(f"({'def'[k]}) strains", fontsize=9)
+        print(f"   w_apex/R0 at kbar = 10, 20, 64: {w_table(b)}")
+    write_csv(a.out / f"{stem}.csv", HEADER, rows)
+    finish(fig, a.out, stem)
+    print(f"total {time.perf_counter() - t0:.1f} s")

@@ -18,6 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .ellipticity import legendre_form
 from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
@@ -109,15 +110,8 @@ def point_functions(model, material, rhob1, metric):
         return X, g, H
 
     def legendre_holds(X, g, H):
-        # The Hessian of W in (lam1, kappa = lam1 k1) at fixed (lam2, k2), positive definite
-        # (:func:`shellbvp.ellipticity.ellipticity` gives its eigenvalues): k1 = kappa / lam1,
-        # so it is J^T H_(lam1, k1) J plus the moment W_k1 times the Hessian of k1.
-        lam1, kap = X[0], X[0] * X[2]
-        a11, a13, a33 = H[0, 0], H[0, 2], H[2, 2]
-        d = -kap / lam1**2                     # dk1/dlam1; dk1/dkappa = 1/lam1
-        L00 = a11 + 2 * a13 * d + a33 * d * d + g[2] * 2 * kap / lam1**3
-        L01 = (a13 + a33 * d) / lam1 - g[2] / lam1**2
-        L11 = a33 / lam1**2
+        # positive definite (:func:`shellbvp.ellipticity.ellipticity` gives its eigenvalues)
+        L00, L01, L11 = legendre_form(X, g, H)
         return (L00 > 0) & (L00 * L11 - L01 * L01 > 0)
 
     def algebraic(y, s, F, lam, h, q_init=None, implicit=False):

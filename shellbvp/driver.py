@@ -148,12 +148,12 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     system = as_method(method).discretise(bvp)
     H = bvp.rise
     stop = ""
-    admissible = elliptic_point if check_ellipticity else None
     try:
         pts, brackets = pseudo_arclength(
             system, system.from_profile(bvp.reference), float(p0), options=options,
             p_stop=p_stop, monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds,
-            progress=progress, admissible=admissible and (lambda pt: admissible(system, pt)))
+            progress=progress,
+            admissible=(lambda pt: elliptic_point(system, pt)) if check_ellipticity else None)
     except ConvergenceError as exc:
         if on_stall == "raise" or exc.partial is None:
             raise

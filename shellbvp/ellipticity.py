@@ -14,7 +14,22 @@ import numpy as np
 
 from .errors import ConvergenceError
 
-__all__ = ["ellipticity", "legendre_along", "elliptic_point", "stall_reason", "LEGENDRE_LOST"]
+__all__ = ["legendre_form", "ellipticity", "legendre_along", "elliptic_point", "stall_reason", "LEGENDRE_LOST"]
+
+
+def legendre_form(X, g, H):
+    """(L00, L01, L11): the Hessian of W in (lam1, kappa = lam1 k1) at fixed (lam2, k2),
+    from the gradient g and Hessian H of W in X = (lam1, lam2, k1, k2) (last axes).
+    k1 = kappa / lam1, so it is J^T H_(lam1, k1) J plus the moment W_k1 times the Hessian
+    of k1. Arithmetic and indexing only: the compiled inner solve (JAX) and the host
+    (numpy) use this one expression."""
+    lam1, kap = X[..., 0], X[..., 0] * X[..., 2]
+    a11, a13, a33 = H[..., 0, 0], H[..., 0, 2], H[..., 2, 2]
+    d = -kap / lam1**2                     # dk1/dlam1; dk1/dkappa = 1/lam1
+    L00 = a11 + 2 * a13 * d + a33 * d * d + g[..., 2] * 2 * kap / lam1**3
+    L01 = (a13 + a33 * d) / lam1 - g[..., 2] / lam1**2
+    L11 = a33 / lam1**2
+    return L00, L01, L11
 
 
 def ellipticity(X, g, H, h):
@@ -42,15 +57,8 @@ def ellipticity(X, g, H, h):
     full = np.linalg.eigvalsh(H * d[:, None] * d[None, :])[..., 0]
     blk = H[..., [0, 2], :][..., :, [0, 2]]
     block = np.linalg.eigvalsh(blk * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
-    lam1, kap = X[..., 0], X[..., 0] * X[..., 2]
-    # X(lam1, kappa) = (lam1, lam2, kappa / lam1, k2): first and second derivatives of k1
-    J = np.zeros(lam1.shape + (2, 2))
-    J[..., 0, 0] = 1.0
-    J[..., 1, 0], J[..., 1, 1] = -kap / lam1**2, 1.0 / lam1
-    L = np.einsum("...ai,...ab,...bj->...ij", J, blk, J)
-    L[..., 0, 0] += g[..., 2] * 2 * kap / lam1**3
-    L[..., 0, 1] -= g[..., 2] / lam1**2
-    L[..., 1, 0] -= g[..., 2] / lam1**2
+    L00, L01, L11 = legendre_form(X, g, H)
+    L = np.stack([np.stack([L00, L01], -1), np.stack([L01, L11], -1)], -2)
     legendre = np.linalg.eigvalsh(L * np.array([1.0, c])[:, None] * np.array([1.0, c]))[..., 0]
     return legendre, block, full
 

@@ -15,7 +15,7 @@ import pytest
 import sympy as sp
 
 import shellbvp
-from shellbvp import Chebyshev, Collocation, ShellBVP
+from shellbvp import Collocation, ShellBVP
 from shellbvp.problems import budding as bd
 from shellbvp.ellipticity import ellipticity
 
