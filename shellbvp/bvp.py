@@ -118,8 +118,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
 
     def nodal_one(piece, s, y, p, lam, h, q_init):
         F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_), (p,), (jnp.ones_like(p),))
-        f, J, fp, ok, q = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
-        return F, f, J, fp, ok, q
+        f, J, fp, ok, q, dq = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
+        return (F, f, J, fp, ok, q), dq
 
     def state_along(piece, s, y, p, lam, h, q_start):
         # Each node from the previous node's (lam1, k1) (nodes in order along the meridian:
@@ -151,9 +151,13 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0), (piece, s, y))
         return X, F, ok, gw, Hw, q_end
 
-    def pole(ya, p, eps, lam, h):
+    def pole(ya, p, eps, lam, h, q_root, dq):
         F0 = fields_at(0, eps, p)
-        q, X, ok = pf["algebraic"](ya, eps, F0, lam, h, implicit=True)
+        # q(ya, p) with the value of the root and the derivative of implicit differentiation,
+        # dq = [dq/dy, dq/dp] (2, 7): the pole rows then differentiate only kinematics
+        q = (q_root + dq[:, :6] @ (ya - jax.lax.stop_gradient(ya))
+             + dq[:, 6] * (p - jax.lax.stop_gradient(p)))
+        X = pf["X"](ya, q, eps, F0, h)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         # regularity of the deformed surface at the apex: equal actual stretches
         # g1 lam1 = g2 lam2 (r ~ g1 lam1 s and lam2 = r / (g2 sin s)) and k1 = k2
@@ -168,7 +172,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             kstar = X[2:] - jnp.linalg.solve(H[2:, 2:], g[2:])
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
         start = jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
-        return start, (start, ok, F0)
+        return start, (start, F0)
 
     def edge_conditions(yb, theta):
         if edge == "free":
@@ -176,11 +180,17 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
                           yb[2] - theta])
 
-    def boundary_jac(ya, yb, p, eps, theta, lam, h):
+    def boundary_jac(ya, yb, p, eps, theta, lam, h, pole_root=None):
         # the pole rows depend on (ya, p) only, the edge rows on yb only: differentiate each
-        # in its own variables (7 and 6 tangents instead of 13 through the inner Newton)
-        (Ja, Jp), (start, ok, F0) = jax.jacfwd(pole, argnums=(0, 1), has_aux=True)(
-            ya, p, eps, lam, h)
+        # in its own variables. The inner root at the pole and its implicit derivatives come
+        # from the nodal function at s = eps (given when node 0 of the first piece is the
+        # pole, as in collocation), so no derivative runs through the inner Newton loop.
+        if pole_root is None:
+            (_, _, _, _, ok, q_root), dq = nodal_one(0, eps, ya, p, lam, h, jnp.full(2, jnp.nan))
+        else:
+            ok, q_root, dq = pole_root
+        (Ja, Jp), (start, F0) = jax.jacfwd(pole, argnums=(0, 1), has_aux=True)(
+            ya, p, eps, lam, h, q_root, dq)
         Jb = jax.jacfwd(edge_conditions)(yb, theta)
         z = jnp.zeros((3, 6))
         return (jnp.concatenate([start, edge_conditions(yb, theta)]), jnp.vstack([Ja, z]),
@@ -196,11 +206,16 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return pf["rhs"](y, s, fields_at(piece, s, p), lam, h)[0]
 
     ax = (0, 0, 0, None, None, None, 0)
-    nodal = jax.vmap(nodal_one, in_axes=ax)
+    nodal_all = jax.vmap(nodal_one, in_axes=ax)
+
+    def nodal(*a):
+        return nodal_all(*a)[0]
 
     def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
-        # everything a collocation method needs at one iterate, in one dispatch
-        return (nodal(piece, s, y, p, lam, h, q_init), boundary_jac(ya, yb, p, eps, theta, lam, h),
+        # everything a collocation method needs at one iterate, in one dispatch; the first
+        # node is the pole (s = eps, y = ya), whose inner root the pole rows reuse
+        nod, dq = nodal_all(piece, s, y, p, lam, h, q_init)
+        return (nod, boundary_jac(ya, yb, p, eps, theta, lam, h, (nod[4][0], nod[5][0], dq[0])),
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(

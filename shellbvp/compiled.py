@@ -76,10 +76,12 @@ def _arr(x):
 def point_functions(model, material, rhob1, metric):
     """Single-node JAX functions (y (6,), s, F (4,), lam, h) -> ...
 
-    Returns a dict with ``algebraic`` -> (q, X, converged), ``rhs`` -> (f, converged) and
-    ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q): the right-hand side, its Jacobian
-    and its derivative along a change dF of the fields (df/dp when dF = dF/dp), both by
-    implicit differentiation of G = 0; ``q_init`` warm-starts the inner Newton.
+    Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
+    ``X`` (the principal state at (y, q)), ``rhs`` -> (f, converged) and
+    ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand
+    side, its Jacobian and its derivative along a change dF of the fields (df/dp when
+    dF = dF/dp), all by implicit differentiation of G = 0; ``q_init`` warm-starts the inner
+    Newton.
     """
     Wf = _energy_jax(model, material, float(rhob1))
     el = _el_jax(bool(metric))
@@ -114,27 +116,29 @@ def point_functions(model, material, rhob1, metric):
         L00, L01, L11 = legendre_form(X, g, H)
         return (L00 > 0) & (L00 * L11 - L01 * L01 > 0)
 
-    def algebraic(y, s, F, lam, h, q_init=None, implicit=False):
+    def newton_step(y, q, s, F, lam, h):
+        X, g, H = jet(y, q, s, F, lam, h)
+        a = args(y, q, s, F, g, H, h)
+        dq = jnp.linalg.solve(_arr(el["G_q"](*a)), _arr(el["G"](*a)))
+        return q - dq, dq, X, g, H
+
+    def root(y, s, F, lam, h, q_init=None):
         # Start from the pole-like guess (r / (g1 sin s), k2) (= (lam2, k2) without metric
         # stimulus; g1 lam1 = g2 lam2 at the pole), or from q_init where it is finite (a warm
-        # start from the previous Newton iterate of an outer solver).
-        # implicit=True: for callers that differentiate q (the pole conditions). The loop is
-        # then cut from differentiation and one Newton step is taken from its fixed point:
-        # that step's derivative is exactly the implicit one, -G_q^-1 G_y (G = 0 there), at
-        # the cost of one W-jet instead of carrying every tangent through the whole loop.
+        # start from the previous Newton iterate of an outer solver). Returns the root, ok,
+        # and the last iterate with its W-jet (1e-13 from the root: callers reuse that jet
+        # instead of paying for another). Not to be differentiated (a loop carries every
+        # tangent through every iteration): ``rhs_jac`` gives dq/dy by implicit
+        # differentiation at the root.
         q0 = jnp.array([y[0] / (F[0] * jnp.sin(s)), -jnp.sin(y[2]) / y[0]])
         if q_init is not None:
             q0 = jnp.where(jnp.isfinite(q_init) & (q_init[0] > 0), q_init, q0)
 
         def body(c):
-            q, it, err_prev, _, _ = c
-            X, g, H = jet(y, q, s, F, lam, h)
-            a = args(y, q, s, F, g, H, h)
-            G = _arr(el["G"](*a))
-            Gq = _arr(el["G_q"](*a))
-            dq = jnp.linalg.solve(Gq, G)
+            q, it, err_prev, _, _, _ = c
+            q_new, dq, X, g, H = newton_step(y, q, s, F, lam, h)
             err = jnp.maximum(jnp.abs(dq[0]) / jnp.abs(q[0]), jnp.abs(dq[1]) / (1 + jnp.abs(q[1])))
-            return q - dq, it + 1, err, err_prev, legendre_holds(X, g, H)
+            return q_new, it + 1, err, err_prev, legendre_holds(X, g, H), (q, g, H)
 
         def converged(err, err_prev):
             floor = (err < NEWTON_FLOOR) & (err > 0.5 * err_prev)   # stagnant at round-off
@@ -143,14 +147,16 @@ def point_functions(model, material, rhob1, metric):
         def cond(c):
             return (c[1] < NEWTON_MAXITER) & ~converged(c[2], c[3])
 
-        q, it, err, err_prev, elliptic = jax.lax.while_loop(
-            cond, body, (q0, 0, jnp.inf, jnp.inf, False))
+        q, it, err, err_prev, elliptic, last = jax.lax.while_loop(
+            cond, body, (q0, 0, jnp.inf, jnp.inf, False, (q0, zero4, zero44)))
         # the root must satisfy the Legendre condition: where W is not convex in the
         # meridian's derivatives, G = 0 has further roots that are not the physical state
         # (checked at the last iterate, 1e-13 from q)
         ok = converged(err, err_prev) & (q[0] > 0) & elliptic
-        if implicit:
-            q = body((jax.lax.stop_gradient(q), 0, err, err_prev, elliptic))[0]
+        return q, ok, last
+
+    def algebraic(y, s, F, lam, h, q_init=None):
+        q, ok, _ = root(y, s, F, lam, h, q_init)
         return q, X_of(y, q, s, F, h), ok
 
     def rhs(y, s, F, lam, h):
@@ -168,20 +174,25 @@ def point_functions(model, material, rhob1, metric):
     def rhs_jac(y, s, F, dF, lam, h, q_init=None):
         """f, df/dy and the derivative of f along a change dF of the fields (a parameter
         derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
-        q, _, ok = algebraic(y, s, F, lam, h, q_init)
-        X, g, H = jet(y, q, s, F, lam, h)
+        # everything at the inner Newton's last iterate q_k, whose jet the loop has already
+        # paid for: q_k is within the inner tolerance (1e-13 relative) of the root, so f is
+        # good to that, and at a converged outer iterate (unchanged y, one inner step of
+        # ~1e-16) df/dy is exact to round-off
+        q_root, ok, (q, g, H) = root(y, s, F, lam, h, q_init)
         a = args(y, q, s, F, g, H, h)
         f = _arr(el["f"](*a))
         fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
         _, (df, dG) = jax.jvp(lambda F_: f_and_G(y, q, s, F_, lam, h), (F,), (dF,))
-        J = fy - fq @ jnp.linalg.solve(Gq, Gy)
-        fp = df - fq @ jnp.linalg.solve(Gq, dG)
-        return f, J, fp, ok, q
+        dq = -jnp.linalg.solve(Gq, jnp.concatenate([Gy, dG[:, None]], axis=1))
+        J = fy + fq @ dq[:, :6]
+        fp = df + fq @ dq[:, 6]
+        return f, J, fp, ok, q_root, dq
 
     def hessian(y, q, s, F, lam, h):
         """The gradient and Hessian of W in X = (lam1, lam2, k1, k2) at the state (y, q)."""
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
-    return {"algebraic": algebraic, "rhs": rhs, "rhs_jac": rhs_jac, "hessian": hessian}
+    return {"algebraic": algebraic, "X": X_of, "rhs": rhs,
+            "rhs_jac": rhs_jac, "hessian": hessian}

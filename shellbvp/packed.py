@@ -38,21 +38,24 @@ class Packed:
         dtypes = [np.asarray(a).dtype for a in args]
         sizes = [math.prod(sh) for sh in shapes]
         starts = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        found = {}
 
         def unpack(flat):
             return [flat[a:a + n].reshape(sh).astype(dt) if sh else flat[a].astype(dt)
                     for a, n, sh, dt in zip(starts, sizes, shapes, dtypes)]
 
         def packed(flat):
-            out = self._fn(*unpack(flat))
-            return jnp.concatenate([jnp.ravel(x).astype(jnp.float64)
-                                    for x in jax.tree_util.tree_leaves(out)])
+            leaves, found["tree"] = jax.tree_util.tree_flatten(self._fn(*unpack(flat)))
+            found["leaves"] = [(x.shape, x.dtype) for x in leaves]
+            return jnp.concatenate([jnp.ravel(x).astype(jnp.float64) for x in leaves])
 
-        spec = [jax.ShapeDtypeStruct(sh, dt) for sh, dt in zip(shapes, dtypes)]
-        leaves, tree = jax.tree_util.tree_flatten(jax.eval_shape(self._fn, *spec))
-        ends = np.cumsum([math.prod(x.shape) for x in leaves])
-        layout = [(e - math.prod(x.shape), e, x.shape, x.dtype) for x, e in zip(leaves, ends)]
-        return jax.jit(packed), tree, layout
+        # one trace gives both the program and the output layout (tracing the W-jet of a
+        # relaxed model takes seconds: a second trace for the layout would double it)
+        program = jax.jit(packed).trace(
+            jax.ShapeDtypeStruct((int(starts[-1]),), np.float64)).lower().compile()
+        ends = np.cumsum([math.prod(sh) for sh, _ in found["leaves"]])
+        layout = [(e - math.prod(sh), e, sh, dt) for (sh, dt), e in zip(found["leaves"], ends)]
+        return program, found["tree"], layout
 
     def __call__(self, *args):
         key = tuple(map(np.shape, args))    # a call site passes the same dtypes every time
