@@ -42,9 +42,26 @@ def test_nodal_jacobian_and_parameter_derivative(state):
     assert np.max(np.abs(nod.fp - fdp) / row) <= 1e-6
 
 
-def test_boundary_jacobians(state):
-    bvp, s, Y, p = state
+@pytest.fixture(scope="module")
+def budding_state():
+    """The budding cap with eta = (0.5, 1): a metric stimulus and an anisotropic target
+    curvature at the apex (the log-mode pole condition, which needs third derivatives of W),
+    at kbar = 5 in a perturbed undeformed state."""
+    from shellbvp.problems import budding
+
+    bvp = ShellBVP(budding.scene(0.5, 1.0))
+    assert bvp.anisotropic_apex
+    s = np.concatenate([bvp.s_of(i, np.linspace(0, 1, 5)) for i in range(bvp.P)])[None, :]
+    rng = np.random.default_rng(2)
+    Y = bvp.reference(s[0])[None] * (1 + 1e-3 * rng.standard_normal((1, 6, s.size)))
+    return bvp, s, Y, 5.0
+
+
+@pytest.mark.parametrize("which", ["cap", "budding"])
+def test_boundary_jacobians(which, request):
+    bvp, s, Y, p = request.getfixturevalue("state" if which == "cap" else "budding_state")
     ya, yb = Y[0, :, 0], Y[0, :, -1]
+    ya[3:] += 1e-3                 # nonzero moment and forces at the pole
     r, Ja, Jb, Jp = bvp.boundary(ya, yb, p)
     scale = np.max(np.abs(np.hstack([Ja, Jb])), axis=1) + 1.0
     for k in range(6):
