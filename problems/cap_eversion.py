@@ -105,6 +105,11 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`) unless
     ``options`` are given."""
     options = ContinuationOptions.to_first_fold() if options is None else options
+    if isinstance(method, str) and method == "spectral" or method == Chebyshev():
+        # the branch only brackets the fold, which is then located on the Chebyshev degrees
+        # that tol needs: follow it on a coarser grid
+        method = Chebyshev(nodes=shellbvp.bracketing_nodes(scene(theta, h, lam, model=model,
+                                                                 material=material, nu=nu)))
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
                method=method, tol=tol, options=options, energies=False)
     T = theta / math.sqrt(h)

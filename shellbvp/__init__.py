@@ -12,7 +12,7 @@ Problem
     axisymmetric BVP of a scene, written once)
 Methods (discretisations behind one protocol)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
-    default_nodes
+    default_nodes, bracketing_nodes
 Solving and continuation
     solve, follow, at_monitor, MonitorPoint, ContinuationOptions
 Results
@@ -37,7 +37,7 @@ _WHERE = {
     "Scene": "scene", "uniform_curvature": "scene",
     "ShellBVP": "bvp", "reference_state": "bvp",
     "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
-    "default_nodes": "methods.chebyshev",
+    "default_nodes": "methods.chebyshev", "bracketing_nodes": "methods.chebyshev",
     "solve": "driver", "follow": "driver", "at_monitor": "driver", "MonitorPoint": "driver",
     "ContinuationOptions": "continuation",
     "Equilibrium": "results", "Branch": "results", "Fold": "results",

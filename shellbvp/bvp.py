@@ -96,6 +96,21 @@ class Nodal(NamedTuple):
     hint: object = None
 
 
+class _Hint(NamedTuple):
+    """Warm start of the inner Newton: the nodal states y (nodes, 6) and parameter p of an
+    evaluation, its roots q (nodes, 2) and their derivatives dq = [dq/dy, dq/dp] (nodes, 2, 7)."""
+
+    y: np.ndarray
+    p: float
+    q: np.ndarray
+    dq: np.ndarray
+
+
+def _flat_nodes(Y):
+    """Y (P, 6, m) -> (P m, 6), nodes piece-major."""
+    return np.moveaxis(np.asarray(Y, dtype=float), 1, -1).reshape(-1, 6)
+
+
 def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
@@ -119,7 +134,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
     def nodal_one(piece, s, y, p, lam, h, q_init):
         F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_), (p,), (jnp.ones_like(p),))
         f, J, fp, ok, q, dq = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
-        return (F, f, J, fp, ok, q), dq
+        return F, f, J, fp, ok, q, dq
 
     def state_along(piece, s, y, p, lam, h, q_start):
         # Each node from the previous node's (lam1, k1) (nodes in order along the meridian:
@@ -186,7 +201,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         # from the nodal function at s = eps (given when node 0 of the first piece is the
         # pole, as in collocation), so no derivative runs through the inner Newton loop.
         if pole_root is None:
-            (_, _, _, _, ok, q_root), dq = nodal_one(0, eps, ya, p, lam, h, jnp.full(2, jnp.nan))
+            _, _, _, _, ok, q_root, dq = nodal_one(0, eps, ya, p, lam, h, jnp.full(2, jnp.nan))
         else:
             ok, q_root, dq = pole_root
         (Ja, Jp), (start, F0) = jax.jacfwd(pole, argnums=(0, 1), has_aux=True)(
@@ -206,16 +221,13 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return pf["rhs"](y, s, fields_at(piece, s, p), lam, h)[0]
 
     ax = (0, 0, 0, None, None, None, 0)
-    nodal_all = jax.vmap(nodal_one, in_axes=ax)
-
-    def nodal(*a):
-        return nodal_all(*a)[0]
+    nodal = jax.vmap(nodal_one, in_axes=ax)
 
     def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
         # everything a collocation method needs at one iterate, in one dispatch; the first
         # node is the pole (s = eps, y = ya), whose inner root the pole rows reuse
-        nod, dq = nodal_all(piece, s, y, p, lam, h, q_init)
-        return (nod, boundary_jac(ya, yb, p, eps, theta, lam, h, (nod[4][0], nod[5][0], dq[0])),
+        nod = nodal(piece, s, y, p, lam, h, q_init)
+        return (nod, boundary_jac(ya, yb, p, eps, theta, lam, h, (nod[4][0], nod[5][0], nod[6][0])),
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(
@@ -337,7 +349,7 @@ class ShellBVP:
         P, m = s.shape
         piece, chunks = self._layout(P, m)
         sf = s.reshape(-1)
-        yf = np.moveaxis(Y, 1, -1).reshape(-1, 6)
+        yf = _flat_nodes(Y)
         outs = []
         for start, stop, idx in chunks:
             args = [piece[idx], sf[idx], yf[idx], float(p), self.material_parameter,
@@ -368,13 +380,16 @@ class ShellBVP:
         out = self._flat("nodal", s, Y, p, (q0,))
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             out = self._flat("nodal", s, Y, p, (self._start(s, Y, p),))
-        return self._nodal_result(s, p, out)
+        return self._nodal_result(s, Y, p, out)
 
     def _nodal_args(self, s, Y, hint, p):
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
         P, m = s.shape
-        if hint is not None and hint.shape == (P * m, 2):
-            return s, Y, hint
+        if isinstance(hint, _Hint) and hint.q.shape == (P * m, 2):
+            # the previous root carried to the new iterate along its implicit derivative
+            # dq = [dq/dy, dq/dp]: the inner Newton then starts O(|change|^2) from its root
+            d = np.concatenate([_flat_nodes(Y) - hint.y, np.full((P * m, 1), p - hint.p)], 1)
+            return s, Y, hint.q + np.einsum("nij,nj->ni", hint.dq, d)
         return s, Y, self._start(s, Y, p)
 
     def _start(self, s, Y, p):
@@ -389,15 +404,15 @@ class ShellBVP:
         X, _, ok, _, _ = self._scan(s, Y, p)
         return np.where(ok[:, None], X[:, [0, 2]], np.nan)
 
-    def _nodal_result(self, s, p, out) -> Nodal:
-        F, f, J, fp, ok, q = out
+    def _nodal_result(self, s, Y, p, out) -> Nodal:
+        F, f, J, fp, ok, q, dq = out
         P, m = s.shape
         self.evaluations += 1
         self._check(F, ok, s, p)
         f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
         J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
         fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
-        return Nodal(f, J, fp, q)
+        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq))
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
@@ -411,7 +426,7 @@ class ShellBVP:
                               self.monitor(Y[0, :, 0], Y[-1, :, -1]))
         sc = self.scene
         ((_, _, idx),) = chunks
-        yf = np.moveaxis(Y, 1, -1).reshape(-1, 6)
+        yf = _flat_nodes(Y)
 
         def call(q):
             nod, bc, mon = self._k["collocate"](
@@ -422,7 +437,7 @@ class ShellBVP:
         out, bc, mon = call(q0)
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             out, bc, mon = call(self._start(s, Y, p))
-        nodal = self._nodal_result(s, p, out)
+        nodal = self._nodal_result(s, Y, p, out)
         m_, (ga, gb) = mon
         return Collocated(nodal, self._boundary_result(bc, p),
                           (float(m_), np.asarray(ga), np.asarray(gb)))

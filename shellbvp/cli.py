@@ -77,6 +77,11 @@ def main(argv=None) -> int:
     if not (0 < a.tol < 1):
         p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
     try:
+        if a.command != "sweep":
+            ce.scene(a.theta, a.h, a.lam, model=a.model, material=a.material, nu=a.nu)
+        if sys.stderr.isatty():    # bad input has been reported above, in one line
+            print("shellbvp: preparing the solver (tracing and compiling it for this model "
+                  "takes ~10-30 s once per process)...", file=sys.stderr, flush=True)
         if a.command == "snap":
             r = ce.snap_curvature(a.theta, a.h, a.lam, tol=a.tol, **opts)
             print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, lam = {a.lam:g}, model = {a.model}, "

@@ -21,7 +21,7 @@ from ..results import Fold
 from .newton import newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["locate_fold", "polish_fold", "refine_fold", "COARSE_MONITOR_TOL"]
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "bracket_estimate", "COARSE_MONITOR_TOL"]
 
 #: the coarse fold only seeds the ladder: m to 1e-7 gives p to O(1e-14)
 COARSE_MONITOR_TOL = 1e-7
@@ -90,60 +90,101 @@ def locate_fold(system, a, b, *, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_T
                 stats=slope.stats(t0))
 
 
-def polish_fold(system, U, p, monitor, *, step=POLISH_STEP, window=POLISH_WINDOW,
-                tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL,
+def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
+                window=POLISH_WINDOW, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL,
                 maxiter=POLISH_MAXITER) -> Fold:
-    """Re-locate a fold known approximately (e.g. on a coarser discretisation): secant
-    iteration on dp/dm = 0 from ``monitor`` and ``monitor + step``.
+    """Re-locate a fold known approximately (e.g. on a coarser discretisation): Newton's
+    method on dp/dm = 0 from ``monitor``, with d2p/dm2 from ``curvature`` (e.g. the fold's on
+    a coarser rung, which is the same to a few digits) or a first difference over ``step``,
+    updated by secants. Stops when the next Newton move |dp/dm / c| (predicted, so a solve
+    that would only confirm it is saved) or the last one is at most ``monitor_tol``: near
+    the fold p = p* + c (m - m*)^2 / 2, so p is then within c monitor_tol^2 / 2 of its fold
+    value (the returned stats carry c as ``curvature``).
 
-    Raises ConvergenceError if the secant iteration does not converge or leaves
+    Raises ConvergenceError if the iteration does not converge or leaves
     [monitor - window, monitor + window].
     """
     t0 = time.perf_counter()
-    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol)
+    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol, min_iterations=2)
     if not res.ok:
         raise ConvergenceError(f"fold polishing: Newton failed at monitor {monitor:.10g}: "
                                f"{res.history}")
     v, _, dp = tangent(res)
     slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol)
     m0, g0 = monitor, dp
-    m1 = monitor + step
-    g1 = slope(m1)
+    if curvature is None or not math.isfinite(curvature) or curvature == 0:
+        m1 = monitor + step
+        g1 = slope(m1)
+        curvature = (g1 - g0) / (m1 - m0)
+        m0, g0 = m1, g1
+    c = curvature
     for _ in range(maxiter):
-        if g1 == g0:
+        if abs(g0 / c) <= monitor_tol:
             break
-        m2 = m1 - g1 * (m1 - m0) / (g1 - g0)
-        if abs(m2 - monitor) > window:
-            raise ConvergenceError(f"fold polishing left its window: monitor {m2:.10g} from "
+        m1 = m0 - g0 / c
+        if not abs(m1 - monitor) <= window:
+            raise ConvergenceError(f"fold polishing left its window: monitor {m1:.10g} from "
                                    f"{monitor:.10g} (window {window:g}); the estimate is too "
                                    f"far (use a finer starting discretisation)")
-        m0, g0, m1 = m1, g1, m2
         g1 = slope(m1)
-        if abs(m1 - m0) <= monitor_tol:
+        if g1 != g0:
+            c = (g1 - g0) / (m1 - m0)
+        m0, g0, moved = m1, g1, abs(m1 - m0)
+        if moved <= monitor_tol:
             break
     else:
-        raise ConvergenceError(f"fold polishing: no convergence in {maxiter} secant steps "
-                               f"(last monitor change {abs(m1 - m0):.2e})")
-    p, U = slope.state(m1)
-    return Fold(p=p, monitor=m1, U=U, system=system,
+        raise ConvergenceError(f"fold polishing: no convergence in {maxiter} steps "
+                               f"(last dp/dm {g0:.2e}, d2p/dm2 {c:.3g})")
+    p, U = slope.state(m0)
+    return Fold(p=p, monitor=m0, U=U, system=system,
                 bracket=(monitor - window, monitor + window),
-                stats=slope.stats(t0, res.iterations))
+                stats=dict(slope.stats(t0, res.iterations), curvature=c))
+
+
+def bracket_estimate(a, b) -> float:
+    """The fold between branch points a and b from their values alone: the stationary
+    point m of the cubic Hermite interpolant of p(m) through (m, p, dp/dm) at both (no
+    solve; exact for a cubic, and a seed within the polishing window in practice), and the
+    interpolant's d2p/dm2 there."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    (ma, pa, ga), (mb, pb, gb) = sorted(
+        (q.monitor, q.p, q.tangent[1] / q.tangent[0]) for q in (a, b))
+    cubic = CubicHermiteSpline([ma, mb], [pa, pb], [ga, gb])
+    roots = cubic.derivative().roots(extrapolate=False)
+    roots = roots[np.isfinite(roots)]
+    m = float(roots[0]) if roots.size else (ma + mb) / 2
+    return m, float(cubic(m, 2))
 
 
 def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOptions(),
                 index: int = -1) -> Fold:
     """The fold between branch points a and b, to ``options.fold_tol``.
 
-    Located coarsely on ``system``, then polished on ``system.refined()``, its refinement,
-    and so on, until the fold parameter changes by at most ``fold_tol`` from one rung to the
-    next; that change is the error estimate and the finer fold is returned (so the estimate
-    bounds the error of the coarser value and overestimates that of the returned one).
-    Raises ConvergenceError after ``options.max_refinements`` rungs.
+    Seeded by :func:`bracket_estimate`, polished on the first rung the tolerance needs
+    (``system.for_tolerance(fold_tol)`` where the method offers it, else ``system``), then on
+    its refinement, and so on, until the fold parameter changes by at most ``fold_tol`` from
+    one rung to the next; that change is the error estimate and the finer fold is returned
+    (so the estimate bounds the error of the coarser value and overestimates that of the
+    returned one). The branch itself may be followed on a coarser system: it only brackets
+    the fold. Raises ConvergenceError after ``options.max_refinements`` rungs.
     """
     t0 = time.perf_counter()
-    coarse = locate_fold(system, a, b, monitor_tol=COARSE_MONITOR_TOL)
-    stats = dict(coarse.stats, coarse=system.describe())
-    current, change = coarse, math.nan
+    m0, c0 = bracket_estimate(a, b)
+    q = min((a, b), key=lambda q: abs(q.monitor - m0))
+    dm = m0 - q.monitor
+    U0 = q.U + dm * q.dU / q.tangent[0]
+    p0 = q.p + dm * q.tangent[1] / q.tangent[0]
+    first = system.for_tolerance(options.fold_tol) if hasattr(system, "for_tolerance") \
+        else system
+    # the monitor of the fold to fold_tol / 10 (at least FOLD_MONITOR_TOL): p is then good
+    # to ~c (fold_tol / 10)^2, and w to the accuracy asked of p
+    m_tol = max(FOLD_MONITOR_TOL, options.fold_tol / 10)
+    current = polish_fold(first, system.transfer(U0, p0, first), p0, m0,
+                          curvature=c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
+                          monitor_tol=m_tol)
+    solves, iterations = current.stats["solves"], current.stats["newton_iterations"]
+    change = math.nan
     for k in range(1, options.max_refinements + 1):
         try:
             finer = current.system.refined()
@@ -152,13 +193,18 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
                 f"fold near {current.p:.10g}: not converged to fold_tol = "
                 f"{options.fold_tol:g} ({exc}; last change {change:.2e})") from None
         fine = polish_fold(finer, current.system.transfer(current.U, current.p, finer),
-                           current.p, current.monitor)
+                           current.p, current.monitor, monitor_tol=m_tol,
+                           curvature=current.stats["curvature"])
+        solves += fine.stats["solves"]
+        iterations += fine.stats["newton_iterations"]
         change = abs(fine.p - current.p)
         if change <= options.fold_tol:
             return fine.with_estimate(
                 change, index=index,
-                stats=dict(stats, refinements=k, resolution=finer.describe(),
-                           error_estimate=change, wall_time=time.perf_counter() - t0))
+                stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
+                           resolution=finer.describe(), solves=solves,
+                           newton_iterations=iterations, error_estimate=change,
+                           wall_time=time.perf_counter() - t0))
         current = fine
     raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
                            f"{options.fold_tol:g} after {options.max_refinements} refinements "

@@ -77,10 +77,13 @@ class NewtonResult:
 
 
 def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
-           fail_fast: bool = True) -> NewtonResult:
+           fail_fast: bool = True, min_iterations: int = 1) -> NewtonResult:
     """Bordered Newton on R(U, p) = 0, alpha m(U) + row . U + beta p = c (row optional).
 
-    Converged when the update is below ``tol`` relative to the unknowns. Returns
+    Converged when the update is below ``tol`` relative to the unknowns, after at least
+    ``min_iterations`` iterations (2: the point is then the result of a step taken with the
+    Jacobian of a point already within tol, not of a start whose Jacobian may be inexact,
+    e.g. carried from another discretisation with a cold inner solve). Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
     iterations, growing updates, or - with ``fail_fast`` - an update not at least
     ``FAIL_CONTRACTION`` times the one before; the caller decides what to do.
@@ -114,7 +117,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         step = max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
                    abs(d[-1]) / (1.0 + abs(p)))
         history.append((float(np.max(np.abs(r))), step))
-        if step <= tol:
+        if step <= tol and it >= min_iterations:
             m, gm = system.monitor(U)
             return NewtonResult(U, p, m, True, it, history, fac, gm)
         if fail_fast and it >= 2 and step > FAIL_CONTRACTION * history[-2][1]:

@@ -22,16 +22,21 @@ import numpy as np
 from .base import NodalSystem
 
 __all__ = ["Chebyshev", "ChebyshevSystem", "chebyshev_points", "differentiation_matrix",
-           "coefficients", "default_nodes", "MIN_NODES", "MAX_NODES", "REFINE_STEP"]
+           "coefficients", "default_nodes", "bracketing_nodes", "fold_nodes", "MIN_NODES",
+           "MAX_NODES", "REFINE_STEP"]
 
 #: the smallest degree that resolves a pole region and an edge layer at all
 MIN_NODES = 8
 #: beyond this the dense LU (size 6 P (N + 1)) costs more than it gains: use a thicker
 #: shell, a smaller tolerance, or the collocation method
 MAX_NODES = 400
-#: degree added per rung of the refinement ladder (kappa_s converges like 0.68^N on the
-#: default cap, so +8 changes the error by ~50x: a rung is a clear step, not noise)
-REFINE_STEP = 8
+#: degree added per rung of the refinement ladder (kappa_s of the default cap converges
+#: by ~1.5 decades per 4 degrees from N = 16 to 40: a rung is a clear step, not noise)
+REFINE_STEP = 4
+#: decades of fold accuracy gained per rung at the degrees where tolerances live
+#: (measured on the default cap, T = 5.2: errors 5e-7, 1.5e-8, 9e-11, 6.5e-11, 4.6e-12,
+#: 2.7e-13 at N = 20 ... 40)
+DECADES_PER_RUNG = 1.5
 
 
 @lru_cache(maxsize=None)
@@ -91,6 +96,21 @@ def default_nodes(scene) -> int:
     return int(8 * math.ceil(max(3.0, 0.75 * T)))
 
 
+def bracketing_nodes(scene) -> int:
+    """Degree at which a branch is followed only to bracket its folds: one rung of 8 below
+    :func:`default_nodes` (at least 16); every fold is then re-located on the ladder from
+    :func:`fold_nodes`, so the coarse branch costs no accuracy."""
+    return max(16, default_nodes(scene) - 8)
+
+
+def fold_nodes(scene, tol: float) -> int:
+    """The first rung of the ladder that refines a fold to ``tol``: the degree whose fold
+    error is expected below tol (from the convergence rate ``DECADES_PER_RUNG``), so that the
+    next rung confirms it; the ladder goes on by itself where the expectation is wrong."""
+    rungs = math.ceil((-math.log10(tol) - 6.0) / DECADES_PER_RUNG)
+    return min(MAX_NODES, max(MIN_NODES * 2, default_nodes(scene) - 12 + REFINE_STEP * rungs))
+
+
 @dataclass(frozen=True)
 class Chebyshev:
     """Chebyshev collocation of degree ``nodes`` per piece (default: :func:`default_nodes`
@@ -144,6 +164,12 @@ class ChebyshevSystem(NodalSystem):
         c = coefficients(self.split(U))
         return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))
                                          for i in range(self.P)])
+
+    def for_tolerance(self, tol: float) -> "ChebyshevSystem":
+        """The system on which a fold is first located to reach ``tol`` (:func:`fold_nodes`),
+        or this one if it is finer."""
+        N = fold_nodes(self.bvp.scene, tol)
+        return self if N <= self.N else ChebyshevSystem(self.bvp, N)
 
     def refined(self) -> "ChebyshevSystem":
         N = self.N + REFINE_STEP
