@@ -96,11 +96,22 @@ def default_nodes(scene) -> int:
     return int(8 * math.ceil(max(3.0, 0.75 * T)))
 
 
+def _resolvable(scene) -> int:
+    """:func:`default_nodes`, or ValueError if that is beyond ``MAX_NODES``."""
+    N = default_nodes(scene)
+    if N > MAX_NODES:
+        raise ValueError(
+            f"the scene needs Chebyshev degree {N} > {MAX_NODES}: its shallowness "
+            f"T = theta / sqrt(h) = {scene.theta / math.sqrt(scene.h):.4g} is "
+            f"beyond what this method resolves (T <= {MAX_NODES / 6:.0f}); raise h")
+    return N
+
+
 def bracketing_nodes(scene) -> int:
     """Degree at which a branch is followed only to bracket its folds: one rung of 8 below
     :func:`default_nodes` (at least 16); every fold is then re-located on the ladder from
     :func:`fold_nodes`, so the coarse branch costs no accuracy."""
-    return max(16, default_nodes(scene) - 8)
+    return max(16, _resolvable(scene) - 8)
 
 
 def fold_nodes(scene, tol: float) -> int:
@@ -127,12 +138,7 @@ class Chebyshev:
                              f"(Chebyshev degree per piece), got {self.nodes!r}")
 
     def discretise(self, bvp) -> "ChebyshevSystem":
-        N = default_nodes(bvp.scene) if self.nodes is None else int(self.nodes)
-        if N > MAX_NODES:
-            raise ValueError(
-                f"the scene needs Chebyshev degree {N} > {MAX_NODES}: its shallowness "
-                f"T = theta / sqrt(h) = {bvp.scene.theta / math.sqrt(bvp.scene.h):.4g} is "
-                f"beyond what this method resolves (T <= {MAX_NODES / 6:.0f}); raise h")
+        N = _resolvable(bvp.scene) if self.nodes is None else int(self.nodes)
         return ChebyshevSystem(bvp, N)
 
 
@@ -167,8 +173,11 @@ class ChebyshevSystem(NodalSystem):
 
     def for_tolerance(self, tol: float) -> "ChebyshevSystem":
         """The system on which a fold is first located to reach ``tol`` (:func:`fold_nodes`),
-        or this one if it is finer."""
-        N = fold_nodes(self.bvp.scene, tol)
+        or this one if it is finer or its BVP is not a shell scene's (no rate is known)."""
+        scene = getattr(self.bvp, "scene", None)
+        if scene is None:
+            return self
+        N = fold_nodes(scene, tol)
         return self if N <= self.N else ChebyshevSystem(self.bvp, N)
 
     def refined(self) -> "ChebyshevSystem":
