@@ -58,10 +58,14 @@ __all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", 
 #: enough from s = 0 that lam2 = r / (g2 sin s) is evaluated without cancellation.
 POLE_OFFSET = 1e-4
 #: nodes are evaluated in chunks padded to one of these sizes (larger sets in chunks of the
-#: last): fine steps where Chebyshev degrees live (N + 1 = 25, 33, 41 pad by <= 7 nodes),
-#: geometric above, so that solve_bvp's ever-changing meshes reuse ~a dozen compiled
-#: programs instead of compiling one per mesh size (each a few seconds and code memory)
-CHUNKS = (8, 16, 24, 32, 40, 48, 64, 96, 128, 192, 256, 384, 512)
+#: last), so that a change of resolution mostly reuses a compiled program (each costs
+#: seconds of compilation for a relaxed model): the Chebyshev degrees of a kappa_s at
+#: tol 1e-6 ... 1e-10 on the default cap (N = 24 ... 36, 25 ... 37 nodes) share the program
+#: of 40 (padding 25 nodes to 40 costs ~60 us per evaluation, a second program ~8 s once);
+#: geometric above, so that solve_bvp's ever-changing meshes reuse ~a dozen programs.
+#: (Fixed chunks of 16 or 24 nodes, dispatched together so that every degree runs on the
+#: same programs, cost 30-50 % more per kappa_s: each compiled call has a fixed cost.)
+CHUNKS = (8, 16, 24, 40, 56, 72, 96, 128, 192, 256, 384, 512)
 #: steps in which the inner root is carried across an interface as the fields jump
 #: (post-processing only; the methods carry it from their previous iterate)
 INTERFACE_STEPS = 16
@@ -350,11 +354,12 @@ class ShellBVP:
         piece, chunks = self._layout(P, m)
         sf = s.reshape(-1)
         yf = _flat_nodes(Y)
-        outs = []
-        for start, stop, idx in chunks:
-            args = [piece[idx], sf[idx], yf[idx], float(p), self.material_parameter,
-                    self.scene.h] + [e[idx] for e in extra]
-            outs.append([np.asarray(o)[: stop - start] for o in self._k[name](*args)])
+        kernel = self._k[name]
+        handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
+                                   self.material_parameter, self.scene.h,
+                                   *[e[idx] for e in extra]) for _, _, idx in chunks]
+        outs = [[np.asarray(o)[: stop - start] for o in kernel.collect(hd)]
+                for (start, stop, _), hd in zip(chunks, handles)]
         return [np.concatenate(parts) for parts in zip(*outs)]
 
     def _check(self, F, ok, s, p):

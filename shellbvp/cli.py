@@ -71,7 +71,10 @@ def main(argv=None) -> int:
     p = parser()
     a = p.parse_args(argv)
     from . import ConvergenceError
+    from .jaxsetup import use_persistent_cache
     from .problems import cap_eversion as ce
+
+    use_persistent_cache(default=True)   # a later command starts in seconds
 
     opts = dict(model=a.model, material=a.material, nu=a.nu, method=a.method)
     if not (0 < a.tol < 1):

@@ -1,16 +1,18 @@
-"""JAX set-up for the compiled modules: float64, and (opt-in) the persistent compilation cache.
+"""JAX set-up for the compiled modules: float64, and the persistent compilation cache (CLI).
 
 Double precision is required (continuation and fold refinement work at 1e-10); importing
 any compiled part of shellbvp turns on ``jax_enable_x64``, the one global JAX setting the
 package changes by default.
 
-JAX's persistent compilation cache (compiled XLA programs kept on disk, so that a new process
-skips compilation) is off by default: with jax/jaxlib 0.10.2 on CPU, loading a cached
-executable aborted a test process (``Fatal Python error: Aborted`` inside
-``compilation_cache.get_executable_and_time``) after it had compiled several hundred
-programs; the cause is not isolated, and a crash is worse than a recompile. ``SHELLBVP_JAX_CACHE=on`` turns it on (in
-``$SHELLBVP_CACHE_DIR/jax``) for users whose JAX loads its cache safely; a cache the user
-configured in JAX itself is left alone.
+JAX's persistent compilation cache (compiled XLA programs kept on disk in
+``$SHELLBVP_CACHE_DIR/jax``, so that a new process skips compilation) is on for the command
+line (:func:`use_persistent_cache` with ``default=True``: it compiles a handful of programs,
+and a later ``shellbvp snap`` starts in seconds instead of ~15 s) and off by default for the
+library: with jax/jaxlib 0.10.2 on CPU, loading a cached executable once aborted a test
+process (``Fatal Python error: Aborted`` inside ``compilation_cache.get_executable_and_time``)
+after it had compiled several hundred programs; the cause is not isolated, and a crash is
+worse than a recompile. ``SHELLBVP_JAX_CACHE=on`` / ``off`` overrides both defaults; a cache
+the user configured in JAX itself is left alone.
 """
 
 from __future__ import annotations
@@ -27,19 +29,26 @@ PERSISTENT_CACHE_MIN_SECONDS = 0.5
 jax.config.update("jax_enable_x64", True)
 
 
-def _use_persistent_cache() -> None:
+def use_persistent_cache(default: bool = False) -> bool:
+    """Turn on JAX's persistent compilation cache in the package's cache folder if
+    ``SHELLBVP_JAX_CACHE`` says so (on / off), else if ``default``; returns whether it is on.
+    Nothing changes when the cache folder is off or JAX already has a cache folder."""
+    setting = os.environ.get("SHELLBVP_JAX_CACHE", "").strip().lower()
+    wanted = setting in {"on", "1", "yes"} or (default and setting not in {"off", "0", "no"})
     folder = cache_dir()
-    if (os.environ.get("SHELLBVP_JAX_CACHE", "off").strip().lower() not in {"on", "1", "yes"}
-            or folder is None or getattr(jax.config, "jax_compilation_cache_dir", None)):
-        return
+    if getattr(jax.config, "jax_compilation_cache_dir", None):
+        return True
+    if not wanted or folder is None:
+        return False
     try:
         jax.config.update("jax_compilation_cache_dir", str(folder / "jax"))
         jax.config.update("jax_persistent_cache_min_compile_time_secs",
                           PERSISTENT_CACHE_MIN_SECONDS)
     except AttributeError:  # a JAX without these options: in-process caching only
-        pass
+        return False
+    return True
 
 
-_use_persistent_cache()
+use_persistent_cache()
 
-__all__ = ["jax"]
+__all__ = ["jax", "use_persistent_cache"]

@@ -57,13 +57,24 @@ class Packed:
         layout = [(e - math.prod(sh), e, sh, dt) for (sh, dt), e in zip(found["leaves"], ends)]
         return program, found["tree"], layout
 
-    def __call__(self, *args):
+    def dispatch(self, *args):
+        """Start the computation (JAX dispatches asynchronously) and return a handle for
+        :meth:`collect`: several calls can be in flight while the host prepares the next."""
         key = tuple(map(np.shape, args))    # a call site passes the same dtypes every time
         if key not in self._programs:
             self._programs[key] = self._program(args)
         program, tree, layout = self._programs[key]
         flat = np.concatenate(list(map(np.ravel, args)), dtype=np.float64)
-        out = np.asarray(program(flat))
+        return program(flat), tree, layout
+
+    def __call__(self, *args):
+        return self.collect(self.dispatch(*args))
+
+    @staticmethod
+    def collect(handle):
+        """The outputs of a :meth:`dispatch`, unpacked (waits for the computation)."""
+        result, tree, layout = handle
+        out = np.asarray(result)
         return jax.tree_util.tree_unflatten(tree, [
             out[a:b].reshape(shape) if dtype == np.float64 else
             out[a:b].reshape(shape).astype(dtype) for a, b, shape, dtype in layout])

@@ -7,6 +7,9 @@ import numpy as np
 import pytest
 
 os.environ.setdefault("JAX_ENABLE_X64", "1")
+# the test process compiles hundreds of programs: no JAX disk cache here, even where the CLI
+# (tested in-process) would turn it on (see shellbvp.jaxsetup)
+os.environ["SHELLBVP_JAX_CACHE"] = "off"
 sys.path.insert(0, os.path.dirname(__file__))  # for the paper transcriptions in paper_formulas.py
 
 
