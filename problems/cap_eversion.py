@@ -125,8 +125,14 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
                method="spectral", csv_path=None, progress=True):
     """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
 
+    Each cap is continued from kappa = 0 until a cap snaps; the caps after it (spectral
+    method) start from the snap fold of the caps before (:func:`shellbvp.fold_near`, along
+    the fold curve), falling back to continuation where that fails. Either way every kappa_s
+    is refined on the same ladder to ``tol``.
+
     Returns a dict of arrays ``T``, ``theta``, ``kappa_s``, ``w_s``, ``error_estimate``,
-    ``snaps`` (kappa_s = nan where the cap does not snap). Writes CSV atomically to
+    ``snaps`` (kappa_s = nan where the cap does not snap) and ``along_fold_curve`` (found
+    from the caps before rather than by continuation from kappa = 0). Writes CSV atomically to
     ``csv_path`` when given; shows a progress bar unless ``progress=False``.
     """
     from tqdm import tqdm
@@ -136,19 +142,51 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
             np.any(T_values <= 0):
         raise ValueError(f"T_values must be a non-empty 1-D array of positive numbers, "
                          f"got {T_values!r}")
-    rows = []
+    rows, folds = [], []    # folds: (T, fold) of the caps just before, along the fold curve
     for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
-        r = snap_curvature(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu,
-                           tol=tol, method=method)
+        theta = T * math.sqrt(h)
+        r = None
+        if folds and method in ("spectral", Chebyshev()):
+            r = _along_fold_curve(T, folds, h, lam, model, material, nu, tol)
+        if r is None:
+            r = snap_curvature(theta, h, lam, model=model, material=material, nu=nu,
+                               tol=tol, method=method)
+        folds = (folds + [(T, r.fold)])[-2:] if r.snaps else []
         rows.append((float(T), float(r.theta), float(r.kappa_s), float(r.w_s),
-                     float(r.error_estimate), bool(r.snaps)))
+                     float(r.error_estimate), bool(r.snaps),
+                     bool(r.stats.get("along_fold_curve", False))))
     out = {k: np.array([row[i] for row in rows]) for i, k in
-           enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps"))}
+           enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps",
+                      "along_fold_curve"))}
     if csv_path is not None:
         lines = ["T,theta_rad,kappa_s_R0,w_s_over_R0,kappa_s_error,snaps"]
-        lines += [f"{T!r},{th!r},{k!r},{w!r},{e!r},{int(s)}" for T, th, k, w, e, s in rows]
+        lines += [f"{T!r},{th!r},{k!r},{w!r},{e!r},{int(s)}" for T, th, k, w, e, s, _ in rows]
         shellbvp.atomic_write_text(csv_path, "\n".join(lines) + "\n")
     return out
+
+
+def _along_fold_curve(T, folds, h, lam, model, material, nu, tol):
+    """kappa_s at shallowness T from the snap folds at the previous one or two T of a sweep
+    (:func:`shellbvp.fold_near`, seeded by linear extrapolation of (w/H, kappa) in T along
+    the fold curve), or None where that does not find the snap fold (then the sweep
+    continues the cap from kappa = 0): a fold that is not the first one (w >= H, the mirror
+    fold past the flat state) or a failure, e.g. next to the onset cusp."""
+    (T1, f1) = folds[-1]
+    m, p = f1.monitor, f1.p
+    if len(folds) == 2:
+        (T0, f0) = folds[0]
+        m += (f1.monitor - f0.monitor) * (T - T1) / (T1 - T0)
+        p += (f1.p - f0.p) * (T - T1) / (T1 - T0)
+    sc = scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
+    try:
+        f = shellbvp.fold_near(sc, f1, monitor=m, p=p,
+                               options=ContinuationOptions.to_first_fold(fold_tol=tol))
+    except shellbvp.ConvergenceError:
+        return None
+    if not (0 < f.monitor < 1):
+        return None
+    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), sc.theta, h, lam,
+                      model, material, T, {"fold": f.stats, "along_fold_curve": True}, fold=f)
 
 
 @dataclass(frozen=True)

@@ -13,14 +13,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bvp import ShellBVP, reference_state
-from .continuation import ContinuationOptions, newton, pseudo_arclength, refine_fold, tangent
+from .continuation import (ContinuationOptions, ladder, newton, pseudo_arclength, refine_fold,
+                           tangent)
 from .errors import ConvergenceError
 from .methods import as_method
 from .ellipticity import elliptic_point, stall_reason
 from .results import Branch, Equilibrium, equilibrium_from, failed_equilibrium
 from .scene import Scene
 
-__all__ = ["solve", "follow", "at_monitor", "MonitorPoint", "SOLVE_NEWTON_TOL"]
+__all__ = ["solve", "follow", "at_monitor", "fold_near", "MonitorPoint", "SOLVE_NEWTON_TOL"]
 
 #: Newton on a discrete system at fixed p stops at this relative update (quadratic
 #: convergence: the residual left is ~1e-20)
@@ -228,3 +229,38 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
         raise ConvergenceError(f"no solution with w = {w:g} prescribed: {res.history}")
     _, _, slope = tangent(res)
     return MonitorPoint(p=res.p, w=w, dp_dw=slope / bvp.rise, resolution=system.describe())
+
+
+def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | None = None,
+              options: ContinuationOptions | None = None, eps: float | None = None):
+    """The fold of ``scene`` near ``near``, a :class:`Fold` of a nearby scene with the same
+    pieces (e.g. the same cap at a nearby shallowness): a fold curve followed one scene at a
+    time, without continuing each scene from p0.
+
+    The nearby fold's state is carried over as a displacement from the reference state (at
+    the same piece coordinates and discretisation), to the monitor ``monitor`` and parameter
+    ``p`` (default: the nearby fold's; pass an extrapolation along the fold curve), and the
+    fold is located from there with the nearby fold's d2p/dm2 and refined on the ladder to
+    ``options.fold_tol`` exactly as in :func:`follow` (same error estimate).
+
+    Raises ValueError if ``near`` was not found by a method whose systems can be carried to
+    another scene (Chebyshev), and ConvergenceError if no fold is found there (the fold may
+    have vanished, e.g. at a cusp): then continue the scene from p0 with :func:`follow`.
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
+    old = near.system
+    if not hasattr(old, "on") or old.bvp.P != scene.pieces:
+        raise ValueError("fold_near needs a fold found by the Chebyshev method on a scene with "
+                         "the same pieces")
+    options = ContinuationOptions() if options is None else options
+    bvp = ShellBVP(scene, eps)
+    system = old.on(bvp)
+    Y = old.split(near.U) - np.stack([old.bvp.reference(s) for s in old.s]) \
+        + np.stack([bvp.reference(s) for s in system.s])
+    m0 = near.monitor if monitor is None else float(monitor)
+    p0 = near.p if p is None else float(p)
+    # the ladder starts where the tolerance needs it, not on the nearby fold's last rung
+    start = system.at_tolerance(options.fold_tol)
+    return ladder(start, system.transfer(Y.ravel(), p0, start), p0, m0,
+                  near.stats.get("curvature"), options=options)

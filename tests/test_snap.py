@@ -57,3 +57,17 @@ def test_collocation_branch_fold_is_a_maximum_of_kappa():
                    options=ContinuationOptions(ds=0.1, ds_max=0.5))
     (fold,) = br.folds
     assert fold.p >= br.p.max() - 1e-12
+
+
+def test_sweep_along_the_fold_curve_equals_independent_caps():
+    """snap_curve finds the caps after the first snapping one from the folds before
+    (shellbvp.fold_near); the independent route is each cap continued from kappa = 0. Both
+    carry an error estimate that bounds their error, so they agree within the sum."""
+    T = [4.0, 4.25, 4.75, 5.25]                   # steps of 0.25 and 0.5 in T
+    out = ce.snap_curve(T, H0, 1.0, tol=1e-9, progress=False)
+    assert out["snaps"].all()
+    assert list(out["along_fold_curve"]) == [False, True, True, True]
+    for T_, k, w, e in zip(T, out["kappa_s"], out["w_s"], out["error_estimate"]):
+        r = ce.snap_curvature(T_ * math.sqrt(H0), H0, 1.0, tol=1e-9)
+        assert abs(k - r.kappa_s) <= e + r.error_estimate + 1e-12, T_
+        assert abs(w - r.w_s) <= 1e-8, T_

@@ -21,7 +21,8 @@ from ..results import Fold
 from .newton import newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["locate_fold", "polish_fold", "refine_fold", "bracket_estimate", "COARSE_MONITOR_TOL"]
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate",
+           "COARSE_MONITOR_TOL"]
 
 #: the coarse fold only seeds the ladder: m to 1e-7 gives p to O(1e-14)
 COARSE_MONITOR_TOL = 1e-7
@@ -161,13 +162,9 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
                 index: int = -1) -> Fold:
     """The fold between branch points a and b, to ``options.fold_tol``.
 
-    Seeded by :func:`bracket_estimate`, polished on the first rung the tolerance needs
-    (``system.for_tolerance(fold_tol)`` where the method offers it, else ``system``), then on
-    its refinement, and so on, until the fold parameter changes by at most ``fold_tol`` from
-    one rung to the next; that change is the error estimate and the finer fold is returned
-    (so the estimate bounds the error of the coarser value and overestimates that of the
-    returned one). The branch itself may be followed on a coarser system: it only brackets
-    the fold. Raises ConvergenceError after ``options.max_refinements`` rungs.
+    Seeded by :func:`bracket_estimate`, then refined on the ladder (:func:`ladder`). The
+    branch itself may be followed on a coarser system than the ladder's: it only brackets
+    the fold.
     """
     t0 = time.perf_counter()
     m0, c0 = bracket_estimate(a, b)
@@ -175,14 +172,29 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
     dm = m0 - q.monitor
     U0 = q.U + dm * q.dU / q.tangent[0]
     p0 = q.p + dm * q.tangent[1] / q.tangent[0]
+    return ladder(system, U0, p0, m0, c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
+                  options=options, index=index, t0=t0)
+
+
+def ladder(system, U, p, monitor, curvature=None, *,
+           options: ContinuationOptions = ContinuationOptions(), index: int = -1,
+           t0: float | None = None) -> Fold:
+    """A fold known approximately on ``system`` (state U, parameter p, monitor, and d2p/dm2
+    if known), to ``options.fold_tol``: polished on the first rung the tolerance needs
+    (``system.for_tolerance(fold_tol)`` where the method offers it, else ``system``), then on
+    its refinement, and so on, until the fold parameter changes by at most ``fold_tol`` from
+    one rung to the next; that change is the error estimate and the finer fold is returned
+    (so the estimate bounds the error of the coarser value and overestimates that of the
+    returned one). Raises ConvergenceError after ``options.max_refinements`` rungs.
+    """
+    t0 = time.perf_counter() if t0 is None else t0
     first = system.for_tolerance(options.fold_tol) if hasattr(system, "for_tolerance") \
         else system
     # the monitor of the fold to fold_tol / 10 (at least FOLD_MONITOR_TOL): p is then good
     # to ~c (fold_tol / 10)^2, and w to the accuracy asked of p
     m_tol = max(FOLD_MONITOR_TOL, options.fold_tol / 10)
-    current = polish_fold(first, system.transfer(U0, p0, first), p0, m0,
-                          curvature=c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
-                          monitor_tol=m_tol)
+    current = polish_fold(first, system.transfer(U, p, first), p, monitor,
+                          curvature=curvature, monitor_tol=m_tol)
     solves, iterations = current.stats["solves"], current.stats["newton_iterations"]
     change = math.nan
     for k in range(1, options.max_refinements + 1):
@@ -204,6 +216,7 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
                 stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
                            resolution=finer.describe(), solves=solves,
                            newton_iterations=iterations, error_estimate=change,
+                           curvature=fine.stats["curvature"],
                            wall_time=time.perf_counter() - t0))
         current = fine
     raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "

@@ -171,6 +171,17 @@ class ChebyshevSystem(NodalSystem):
         return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))
                                          for i in range(self.P)])
 
+    def on(self, bvp) -> "ChebyshevSystem":
+        """The same discretisation of another BVP with the same pieces (e.g. the scene at
+        a nearby parameter): unknowns at the same piece coordinates."""
+        return ChebyshevSystem(bvp, self.N)
+
+    def at_tolerance(self, tol: float) -> "ChebyshevSystem":
+        """The first rung of the fold ladder for ``tol`` (:func:`fold_nodes`), finer or
+        coarser than this system (this one if its BVP is not a shell scene's)."""
+        scene = getattr(self.bvp, "scene", None)
+        return self if scene is None else ChebyshevSystem(self.bvp, fold_nodes(scene, tol))
+
     def for_tolerance(self, tol: float) -> "ChebyshevSystem":
         """The system on which a fold is first located to reach ``tol`` (:func:`fold_nodes`),
         or this one if it is finer or its BVP is not a shell scene's (no rate is known)."""
