@@ -14,8 +14,13 @@ steps), measured on this machine type (issue #9): relaxed 32 / 58 / 111 ms at er
 8e-11 / 1e-13 (NTST 10 / 20 / 40); plane strain 26 / 45 / 87 ms at the same NTST (errors not
 recorded; drawn at the accuracy class 1e-8 / 1e-10 / 1e-12 they were measured for).
 
+Also the Fig. 3 set (relaxed, h0/R0 = 0.01, lam in {0.01, 0.1, 1, 10}, T = 2:0.25:10, 132
+caps, tol 1e-10) in steady state: one ``snap_curve`` sweep per lam (caps found along the fold
+curve) against the same caps each continued from kappa = 0 (AUTO-07p: 13-16 s at NTST = 40).
+
 Pinned to one core (sched_setaffinity, single-threaded BLAS and XLA), as AUTO was.
-Writes bench_snap.csv (steady state), bench_snap_startup.csv and bench_snap.png.
+Writes bench_snap.csv (steady state), bench_snap_startup.csv, bench_snap_fig3.csv and
+bench_snap.png.
 
     python figures/bench_snap.py [--quick] [--repeats 15] [--no-startup]
 """
@@ -80,6 +85,34 @@ def startup(model, cache_dir):
     return wall, line
 
 
+def fig3_set(tol=1e-10, quick=False):
+    """The Fig. 3 caps (relaxed, h = 0.01, lam in {0.01, 0.1, 1, 10}, T = 2:0.25:10) in
+    steady state: one snap_curve sweep per lam (along the fold curve) against the same caps
+    each continued from kappa = 0 (restarts). Returns rows (lam, caps, along_s, restarts_s,
+    along_fold_curve, max |difference|)."""
+    from shellbvp.problems import cap_eversion as ce
+
+    T = np.arange(2.0, 10.001, 1.0 if quick else 0.25)
+    rows = []
+    for lam in ((1.0,) if quick else (0.01, 0.1, 1.0, 10.0)):
+        ce.snap_curve(T, 0.01, lam, tol=tol, progress=False)          # compile, warm
+        t = time.perf_counter()
+        out = ce.snap_curve(T, 0.01, lam, tol=tol, progress=False)
+        along = time.perf_counter() - t
+        t = time.perf_counter()
+        ks = [ce.snap_curvature(x * 0.1, 0.01, lam, tol=tol).kappa_s for x in T]
+        restarts = time.perf_counter() - t
+        diff = np.nanmax(np.abs(np.array(ks) - out["kappa_s"]))
+        rows.append([lam, T.size, along, restarts, int(out["along_fold_curve"].sum()), diff])
+        print(f"Fig. 3 caps, lam = {lam:<5g}: {along:.2f} s along the fold curve "
+              f"({rows[-1][4]} of {T.size}), {restarts:.2f} s by restarts (ratio "
+              f"{restarts / along:.1f}); max difference {diff:.1e}")
+    print(f"Fig. 3 set ({sum(r[1] for r in rows)} caps, tol {tol:g}): "
+          f"{sum(r[2] for r in rows):.2f} s along the fold curve, "
+          f"{sum(r[3] for r in rows):.2f} s by restarts")
+    return rows
+
+
 def main(argv=None):
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=15, help="steady-state repetitions (default 15)")
@@ -119,6 +152,10 @@ def main(argv=None):
                     srows.append([model, cache, wall])
                     print(f"start-up {model:>12s}, {cache} cache: {wall:5.1f} s  ({line})")
         write_csv(a.out / "bench_snap_startup.csv", ["model", "cache", "command_wall_s"], srows)
+
+    write_csv(a.out / "bench_snap_fig3.csv",
+              ["lam", "caps", "along_fold_curve_s", "restarts_s", "caps_along_fold_curve",
+               "max_abs_difference"], fig3_set(quick=a.quick))
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.2))
