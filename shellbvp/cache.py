@@ -28,10 +28,10 @@ def cache_dir() -> Path | None:
 
 
 def key(*parts: Any) -> str:
-    import sympy
+    from importlib.metadata import version   # sympy's version without importing sympy
 
     h = hashlib.sha256()
-    for p in (sys.version_info[:2], sympy.__version__, *parts):
+    for p in (sys.version_info[:2], version("sympy"), *parts):
         h.update(repr(p).encode())
         h.update(b"\0")
     return h.hexdigest()[:32]

@@ -18,6 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from . import cache
 from .ellipticity import legendre_form
 from .jaxsetup import jax
 
@@ -42,32 +43,78 @@ CONTRACTION_BOUND = 100.0
 ROUND_OFF = 1e-16
 
 
+def _source_key(*parts) -> str:
+    """Disk key of generated code: the derivation's source files and ``parts`` (and, by
+    :func:`shellbvp.cache.key`, the Python and sympy versions)."""
+    import hashlib
+    from pathlib import Path
+
+    h = hashlib.sha256()
+    for name in ("reduction.py", "euler_lagrange.py", "series.py", "compiled.py"):
+        h.update((Path(__file__).parent / name).read_bytes())
+    return cache.key("generated-jax", h.hexdigest(), *parts)
+
+
+def _generated(key: str, build):
+    """JAX functions lambdified by sympy (``build()`` -> dict of them), their generated
+    source kept on disk under ``key``: a later process execs that source with jax.numpy
+    instead of importing sympy and lambdifying again (~1 s for a relaxed energy)."""
+    def generate():
+        import inspect
+
+        out = {}
+        for name, f in build().items():
+            names = {n: getattr(f.__globals__[n], "__name__", None)
+                     for n in f.__code__.co_names if n in f.__globals__}
+            if not all(v is not None and getattr(jnp, v, None) is f.__globals__[n]
+                       for n, v in names.items()):
+                return None          # a name that is not jax.numpy's: do not keep it
+            out[name] = (inspect.getsource(f), names)
+        return out
+
+    sources = cache.memo(key, generate)
+    if sources is None:
+        return build()
+    funcs = {}
+    for name, (src, names) in sources.items():
+        namespace = {n: getattr(jnp, v) for n, v in names.items()}
+        exec(compile(src, f"<shellbvp generated {name}>", "exec"), namespace)
+        funcs[name] = namespace["_lambdifygenerated"]
+    return funcs
+
+
 @lru_cache(maxsize=None)
 def _energy_jax(model, material, rhob1):
-    import sympy as sp
+    def build():
+        import sympy as sp
 
-    from . import reduction as R
+        from . import reduction as R
 
-    W = R.full_energy(model, material,
-                      stimulus={R.rhob1: sp.nsimplify(rhob1), R.rhob2: 0, R.rhob3: 0})
-    args = (R.lam1, R.lam2, R.k1, R.k2, R.kb1, R.kb2, R.lam, R.h)
-    return sp.lambdify(args, W, modules="jax", cse=True)
+        W = R.full_energy(model, material,
+                          stimulus={R.rhob1: sp.nsimplify(rhob1), R.rhob2: 0, R.rhob3: 0})
+        args = (R.lam1, R.lam2, R.k1, R.k2, R.kb1, R.kb2, R.lam, R.h)
+        return {"W": sp.lambdify(args, W, modules="jax", cse=True)}
+
+    return _generated(_source_key("energy", model, material, float(rhob1)), build)["W"]
 
 
 @lru_cache(maxsize=None)
 def _el_jax(metric):
-    import sympy as sp
+    def build():
+        import sympy as sp
 
-    from . import euler_lagrange as E
+        from . import euler_lagrange as E
 
-    el = E.derive_el(metric)
-    args = E.Y + E.Q + (E.s, E.h) + E.FIELDS + E.WGRAD + E.WHESS
-    out = {}
-    for name in ("X", "G", "G_q", "G_y", "f", "f_y", "f_q"):
-        expr = getattr(el, name)
-        expr = list(expr) if name in ("X", "G", "f") else [list(row) for row in expr]
-        out[name] = sp.lambdify(args, expr, modules="jax", cse=True)
-    return out
+        el = E.derive_el(metric)
+        args = E.Y + E.Q + (E.s, E.h) + E.FIELDS + E.WGRAD + E.WHESS
+        out = {}
+        for name in ("X", "G", "G_q", "G_y", "f", "f_y", "f_q"):
+            expr = getattr(el, name)
+            expr = list(expr) if name in ("X", "G", "f") else [list(row) for row in expr]
+            out[name] = sp.lambdify(args, expr, modules="jax", cse=True)
+        return out
+
+    return _generated(_source_key("euler-lagrange", bool(metric)), build)
 
 
 def _arr(x):

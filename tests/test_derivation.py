@@ -158,3 +158,33 @@ def test_derivation_is_cached_on_disk(tmp_path, monkeypatch):
     again = cache.memo("k", lambda: calls.append(1) or None)
     assert calls == [1] and again == value
     assert len(list(tmp_path.glob("*.pkl"))) == 1
+
+
+def test_generated_code_reloads_from_disk_without_sympy(tmp_path, monkeypatch):
+    """The lambdified energy is kept on disk as source and exec'd with jax.numpy in a later
+    process (no sympy import): the reloaded function is the same function. Reference: the
+    freshly lambdified one, on random states."""
+    import numpy as np
+
+    from shellbvp import compiled as C
+    from shellbvp import reduction as R
+
+    monkeypatch.setenv("SHELLBVP_CACHE_DIR", str(tmp_path))
+    import sympy as sp
+
+    def build():
+        W = R.full_energy("relaxed", "cg", stimulus={R.rhob1: 1, R.rhob2: 0, R.rhob3: 0})
+        args = (R.lam1, R.lam2, R.k1, R.k2, R.kb1, R.kb2, R.lam, R.h)
+        return {"W": sp.lambdify(args, W, modules="jax", cse=True)}
+
+    def refuse():
+        raise AssertionError("the disk entry was not used")
+
+    key = C._source_key("test-energy")
+    C._generated(key, build)                      # generates and keeps the source
+    reloaded = C._generated(key, refuse)["W"]     # a later process: from disk only
+    fresh = build()["W"]
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        x = (*rng.uniform(0.8, 1.2, 2), *rng.uniform(-2, 2, 4), 1.0, 0.01)
+        assert float(reloaded(*x)) == float(fresh(*x))
