@@ -100,10 +100,11 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                    method="spectral", tol=1e-9,
                    options: ContinuationOptions | None = None) -> SnapResult:
     """kappa_s: the first fold of the branch from kappa = 0, refined until it changes by at
-    most ``tol`` on the method's ladder (Chebyshev: 8 more nodes per rung; shooting: ODE
-    tolerance / 10; collocation: every interval halved); that change is the error estimate.
-    Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`) unless
-    ``options`` are given."""
+    most ``tol`` on the method's ladder (Chebyshev: 4 more nodes per rung from the degree
+    tol needs, the branch itself followed on a coarser degree only to bracket the fold;
+    shooting: ODE tolerance / 10; collocation: every interval halved); that change is the
+    error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
+    unless ``options`` are given."""
     options = ContinuationOptions.to_first_fold() if options is None else options
     if isinstance(method, str) and method == "spectral" or method == Chebyshev():
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
