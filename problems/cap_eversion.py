@@ -106,7 +106,7 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
     unless ``options`` are given."""
     options = ContinuationOptions.to_first_fold() if options is None else options
-    if isinstance(method, str) and method == "spectral" or method == Chebyshev():
+    if method in ("spectral", Chebyshev()):
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
         # that tol needs: follow it on a coarser grid
         method = Chebyshev(nodes=shellbvp.bracketing_nodes(scene(theta, h, lam, model=model,

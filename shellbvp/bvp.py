@@ -468,7 +468,7 @@ class ShellBVP:
         Newton started from the previous one's (see ``state_along`` in the kernels)."""
         P, m = s.shape
         piece, chunks = self._layout(P, m)
-        sf, yf = s.reshape(-1), np.moveaxis(np.asarray(Y, dtype=float), 1, -1).reshape(-1, 6)
+        sf, yf = s.reshape(-1), _flat_nodes(Y)
         q = np.full(2, np.nan)         # the first node starts from the pole-like guess
         outs = []
         for start, stop, idx in chunks:

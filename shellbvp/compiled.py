@@ -212,10 +212,10 @@ def point_functions(model, material, rhob1, metric):
         # meridian's derivatives, G = 0 has further roots that are not the physical state
         # (checked at the last iterate, 1e-13 from q)
         ok = converged(err, err_prev) & (q[0] > 0) & elliptic
-        return q, ok, last, it
+        return q, ok, last
 
     def algebraic(y, s, F, lam, h, q_init=None):
-        q, ok, _, _ = root(y, s, F, lam, h, q_init)
+        q, ok, _ = root(y, s, F, lam, h, q_init)
         return q, X_of(y, q, s, F, h), ok
 
     def rhs(y, s, F, lam, h):
@@ -238,7 +238,7 @@ def point_functions(model, material, rhob1, metric):
         # ~1e-5 of the root during outer iterations (a Jacobian that accurate costs the outer
         # Newton nothing) and within ~1e-16 at a converged outer iterate (unchanged y: one
         # inner step), where df/dy is exact to round-off
-        q_root, ok, (q, g, H), _ = root(y, s, F, lam, h, q_init)
+        q_root, ok, (q, g, H) = root(y, s, F, lam, h, q_init)
         a = args(y, q, s, F, g, H, h)
         fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
@@ -253,5 +253,5 @@ def point_functions(model, material, rhob1, metric):
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
-    return {"algebraic": algebraic, "root": root, "X": X_of, "rhs": rhs,
+    return {"algebraic": algebraic, "X": X_of, "rhs": rhs,
             "rhs_jac": rhs_jac, "hessian": hessian}

@@ -21,11 +21,8 @@ from ..results import Fold
 from .newton import newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate",
-           "COARSE_MONITOR_TOL"]
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate"]
 
-#: the coarse fold only seeds the ladder: m to 1e-7 gives p to O(1e-14)
-COARSE_MONITOR_TOL = 1e-7
 #: Newton tolerance and monitor tolerance of a fold that is returned to the user
 FOLD_NEWTON_TOL = 1e-10
 FOLD_MONITOR_TOL = 1e-10
@@ -142,7 +139,7 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
                 stats=dict(slope.stats(t0, res.iterations), curvature=c))
 
 
-def bracket_estimate(a, b) -> float:
+def bracket_estimate(a, b) -> tuple[float, float]:
     """The fold between branch points a and b from their values alone: the stationary
     point m of the cubic Hermite interpolant of p(m) through (m, p, dp/dm) at both (no
     solve; exact for a cubic, and a seed within the polishing window in practice), and the

@@ -183,13 +183,9 @@ class ChebyshevSystem(NodalSystem):
         return self if scene is None else ChebyshevSystem(self.bvp, fold_nodes(scene, tol))
 
     def for_tolerance(self, tol: float) -> "ChebyshevSystem":
-        """The system on which a fold is first located to reach ``tol`` (:func:`fold_nodes`),
-        or this one if it is finer or its BVP is not a shell scene's (no rate is known)."""
-        scene = getattr(self.bvp, "scene", None)
-        if scene is None:
-            return self
-        N = fold_nodes(scene, tol)
-        return self if N <= self.N else ChebyshevSystem(self.bvp, N)
+        """:meth:`at_tolerance`, or this system if it is finer."""
+        first = self.at_tolerance(tol)
+        return self if first.N <= self.N else first
 
     def refined(self) -> "ChebyshevSystem":
         N = self.N + REFINE_STEP
