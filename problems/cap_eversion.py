@@ -80,6 +80,10 @@ class SnapResult:
         error_estimate: estimate of the error in kappa_s (mesh refinement of the fold system).
         T: shallowness Theta sqrt(R0/h0).
         fold: the :class:`shellbvp.Fold` (``fold.equilibrium`` is the shape at the snap).
+        gradient: with ``gradient=True``, exact derivatives of kappa_s R0:
+            ``{"theta": dkappa_s/dTheta, "h": dkappa_s/dh, "lam": dkappa_s/dlam}`` (``"nu"``
+            for Koiter, no material entry for neo-Hookean), each at fixed other data
+            (:func:`shellbvp.fold_gradient`); None otherwise or when the cap does not snap.
     """
 
     snaps: bool
@@ -94,17 +98,23 @@ class SnapResult:
     T: float
     stats: dict = field(repr=False, default_factory=dict)
     fold: object = field(repr=False, default=None)
+    gradient: dict | None = None
 
 
 def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                    method="spectral", tol=1e-9,
-                   options: ContinuationOptions | None = None) -> SnapResult:
+                   options: ContinuationOptions | None = None,
+                   gradient: bool = False) -> SnapResult:
     """kappa_s: the first fold of the branch from kappa = 0, refined until it changes by at
     most ``tol`` on the method's ladder (Chebyshev: 4 more nodes per rung from the degree
     tol needs, the branch itself followed on a coarser degree only to bracket the fold;
     shooting: ODE tolerance / 10; collocation: every interval halved); that change is the
     error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
-    unless ``options`` are given."""
+    unless ``options`` are given. ``gradient=True`` adds the exact derivatives of kappa_s in
+    Theta, h and the material parameter (``SnapResult.gradient``; spectral method only), by
+    implicit differentiation of the fold: for optimisation and inverse design."""
+    if gradient and method not in ("spectral", Chebyshev()):
+        raise ValueError(f"gradient=True needs method='spectral', got method={method!r}")
     options = ContinuationOptions.to_first_fold() if options is None else options
     if method in ("spectral", Chebyshev()):
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
@@ -119,7 +129,8 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                           T, dict(b.stats))
     f = b.folds[0]
     return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam,
-                      model, material, T, dict(b.stats) | {"fold": f.stats}, fold=f)
+                      model, material, T, dict(b.stats) | {"fold": f.stats}, fold=f,
+                      gradient=shellbvp.fold_gradient(f) if gradient else None)
 
 
 def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-9,

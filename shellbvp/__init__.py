@@ -14,7 +14,7 @@ Methods (discretisations behind one protocol)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
     default_nodes, bracketing_nodes
 Solving and continuation
-    solve, follow, at_monitor, fold_near, MonitorPoint, ContinuationOptions
+    solve, follow, at_monitor, fold_near, fold_gradient, MonitorPoint, ContinuationOptions
 Results
     Equilibrium, Branch, Fold, ConvergenceError
 Files
@@ -39,7 +39,7 @@ _WHERE = {
     "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
     "default_nodes": "methods.chebyshev", "bracketing_nodes": "methods.chebyshev",
     "solve": "driver", "follow": "driver", "at_monitor": "driver", "MonitorPoint": "driver",
-    "fold_near": "driver",
+    "fold_near": "driver", "fold_gradient": "driver",
     "ContinuationOptions": "continuation",
     "Equilibrium": "results", "Branch": "results", "Fold": "results",
     "ConvergenceError": "errors",

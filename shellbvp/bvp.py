@@ -170,12 +170,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0), (piece, s, y))
         return X, F, ok, gw, Hw, q_end
 
-    def pole(ya, p, eps, lam, h, q_root, dq):
-        F0 = fields_at(0, eps, p)
-        # q(ya, p) with the value of the root and the derivative of implicit differentiation,
-        # dq = [dq/dy, dq/dp] (2, 7): the pole rows then differentiate only kinematics
-        q = (q_root + dq[:, :6] @ (ya - jax.lax.stop_gradient(ya))
-             + dq[:, 6] * (p - jax.lax.stop_gradient(p)))
+    def pole_rows(ya, q, eps, F0, lam, h):
         X = pf["X"](ya, q, eps, F0, h)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         # regularity of the deformed surface at the apex: equal actual stretches
@@ -190,7 +185,15 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             g, H = pf["hessian"](ya, q, eps, F0, lam, h)
             kstar = X[2:] - jnp.linalg.solve(H[2:, 2:], g[2:])
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
-        start = jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
+        return jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
+
+    def pole(ya, p, eps, lam, h, q_root, dq):
+        F0 = fields_at(0, eps, p)
+        # q(ya, p) with the value of the root and the derivative of implicit differentiation,
+        # dq = [dq/dy, dq/dp] (2, 7): the pole rows then differentiate only kinematics
+        q = (q_root + dq[:, :6] @ (ya - jax.lax.stop_gradient(ya))
+             + dq[:, 6] * (p - jax.lax.stop_gradient(p)))
+        start = pole_rows(ya, q, eps, F0, lam, h)
         return start, (start, F0)
 
     def edge_conditions(yb, theta):
@@ -227,6 +230,30 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
     ax = (0, 0, 0, None, None, None, 0)
     nodal = jax.vmap(nodal_one, in_axes=ax)
 
+    def sensitivity_one(piece, s, y, p, lam, h, q_init):
+        # f and its derivatives in (s, material parameter, h) at fixed y and p, the fields
+        # included (they depend on s), by implicit differentiation of the inner root
+        q_root, _, _ = pf["root"](y, s, fields_at(piece, s, p), lam, h, q_init)
+
+        def f(s_, lam_, h_):
+            return pf["f_linear"](y, s_, fields_at(piece, s_, p), lam_, h_, q_root)
+
+        return f(s, lam, h), jnp.stack(jax.jacfwd(f, argnums=(0, 1, 2))(s, lam, h), axis=-1)
+
+    def boundary_sensitivity(ya, yb, p, eps, theta, lam, h):
+        # the boundary rows' derivatives in (eps, theta, material parameter, h) and the
+        # monitor's in theta, at fixed ya, yb and p
+        q_root, _, _ = pf["root"](ya, eps, fields_at(0, eps, p), lam, h)
+
+        def rows(eps_, theta_, lam_, h_):
+            F0 = fields_at(0, eps_, p)
+            q = pf["q_linear"](ya, eps_, F0, lam_, h_, q_root)
+            return jnp.concatenate([pole_rows(ya, q, eps_, F0, lam_, h_),
+                                    edge_conditions(yb, theta_)])
+
+        return (jnp.stack(jax.jacfwd(rows, argnums=(0, 1, 2, 3))(eps, theta, lam, h), axis=-1),
+                jax.grad(observable, argnums=2)(ya, yb, theta))
+
     def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
         # everything a collocation method needs at one iterate, in one dispatch; the first
         # node is the pole (s = eps, y = ya), whose inner root the pole rows reuse
@@ -240,6 +267,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         state=Packed(state_along),
         boundary=Packed(boundary_jac),
         observable=Packed(jax.value_and_grad(observable, argnums=(0, 1))),
+        sensitivity=Packed(jax.vmap(sensitivity_one, in_axes=ax)),
+        boundary_sensitivity=Packed(boundary_sensitivity),
         vector_field=vector_field,
     )
 
@@ -298,12 +327,15 @@ class ShellBVP:
     def __init__(self, scene: Scene, eps: float | None = None):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
+        eps_given = eps
         eps = POLE_OFFSET * scene.theta if eps is None else float(eps)
         first = scene.breaks[0] if scene.breaks else scene.theta
         if not (0 < eps < first / 10):
             raise ValueError(f"eps must lie in (0, {first / 10:g}) (a tenth of the first "
                              f"piece), got {eps!r}")
         self.scene, self.eps = scene, eps
+        #: d eps / d theta: the default pole offset scales with theta, a given one is fixed
+        self.eps_per_theta = POLE_OFFSET if eps_given is None else 0.0
         self.a = np.array((eps,) + scene.breaks)
         self.b = np.array(scene.breaks + (scene.theta,))
         self.P = scene.pieces
@@ -487,6 +519,29 @@ class ShellBVP:
         return self._boundary_result(self._k["boundary"](
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
             sc.theta, self.material_parameter, sc.h), p)
+
+    def sensitivities(self, s, Y, p, hint=None):
+        """f and its derivatives in (s, material parameter, h) at nodes s (P, m), states
+        Y (P, 6, m) and fixed p: (f (P, 6, m), df/d(s, mat, h) (P, 6, m, 3)), the inner root
+        differentiated implicitly (no finite differences). With :meth:`boundary_sensitivities`
+        this gives the derivative of a discrete system in the scene's theta, h and material."""
+        s, Y, q0 = self._nodal_args(s, Y, hint, p)
+        P, m = s.shape
+        f, df = self._flat("sensitivity", s, Y, p, (q0,))
+        if not np.all(np.isfinite(df)):
+            raise ConvergenceError("parameter derivatives of the right-hand side are not "
+                                   "finite (the inner root was not found)")
+        return (np.moveaxis(f.reshape(P, m, 6), -1, 1),
+                np.moveaxis(df.reshape(P, m, 6, 3), 1, 2))
+
+    def boundary_sensitivities(self, ya, yb, p):
+        """The derivatives of the boundary residual (6,) in (eps, theta, material parameter,
+        h) as (6, 4), and of the monitor in theta, at fixed ya, yb and p."""
+        sc = self.scene
+        dr, dm = self._k["boundary_sensitivity"](
+            np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
+            sc.theta, self.material_parameter, sc.h)
+        return np.asarray(dr), float(dm)
 
     def _boundary_result(self, out, p):
         r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in out)

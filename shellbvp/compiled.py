@@ -133,7 +133,9 @@ def point_functions(model, material, rhob1, metric):
     ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand
     side, its Jacobian and its derivative along a change dF of the fields (df/dp when
     dF = dF/dp), all by implicit differentiation of G = 0; ``q_init`` warm-starts the inner
-    Newton.
+    Newton. ``root`` is the inner Newton itself; ``q_linear`` and ``f_linear`` give the root
+    and f as functions of (y, s, F, lam, h) exact to first order (their JAX derivatives are
+    the implicit ones), for derivatives in the scene's geometry and material.
     """
     Wf = _energy_jax(model, material, float(rhob1))
     el = _el_jax(bool(metric))
@@ -248,10 +250,31 @@ def point_functions(model, material, rhob1, metric):
         fp = df + fq @ dq[:, 6]
         return f, J, fp, ok, q_root, dq
 
+    def q_linear(y, s, F, lam, h, q_root):
+        """The root q_root as a function of (y, s, F, lam, h) exact to first order: its value
+        and, by implicit differentiation of G = 0, its first derivatives in every input
+        (q_root itself is not differentiated; its loop would carry the tangents)."""
+        x = (y, s, F, lam, h)
+        x0 = jax.tree_util.tree_map(jax.lax.stop_gradient, x)
+        q0 = jax.lax.stop_gradient(q_root)
+
+        def G(y_, s_, F_, lam_, h_, q_):
+            return f_and_G(y_, q_, s_, F_, lam_, h_)[1]
+
+        Gq = jax.jacfwd(G, argnums=5)(*x0, q0)
+        _, dG = jax.jvp(lambda *a: G(*a, q0), x0,
+                        jax.tree_util.tree_map(lambda a, b: a - b, x, x0))
+        return q0 - jnp.linalg.solve(Gq, dG)
+
+    def f_linear(y, s, F, lam, h, q_root):
+        """f at the root, exact to first order in (y, s, F, lam, h) (:func:`q_linear`): the
+        sensitivities of the right-hand side to the scene's geometry and material."""
+        return f_and_G(y, q_linear(y, s, F, lam, h, q_root), s, F, lam, h)[0]
+
     def hessian(y, q, s, F, lam, h):
         """The gradient and Hessian of W in X = (lam1, lam2, k1, k2) at the state (y, q)."""
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
-    return {"algebraic": algebraic, "X": X_of, "rhs": rhs,
-            "rhs_jac": rhs_jac, "hessian": hessian}
+    return {"root": root, "algebraic": algebraic, "X": X_of, "rhs": rhs, "rhs_jac": rhs_jac,
+            "hessian": hessian, "q_linear": q_linear, "f_linear": f_linear}

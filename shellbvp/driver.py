@@ -13,15 +13,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bvp import ShellBVP, reference_state
-from .continuation import (ContinuationOptions, ladder, newton, pseudo_arclength, refine_fold,
-                           tangent)
+from .continuation import (ContinuationOptions, fold_sensitivity, ladder, newton,
+                           pseudo_arclength, refine_fold, tangent)
 from .errors import ConvergenceError
 from .methods import as_method
 from .ellipticity import elliptic_point, stall_reason
 from .results import Branch, Equilibrium, equilibrium_from, failed_equilibrium
 from .scene import Scene
 
-__all__ = ["solve", "follow", "at_monitor", "fold_near", "MonitorPoint", "SOLVE_NEWTON_TOL"]
+__all__ = ["solve", "follow", "at_monitor", "fold_near", "fold_gradient", "MonitorPoint",
+           "SOLVE_NEWTON_TOL"]
 
 #: Newton on a discrete system at fixed p stops at this relative update (quadratic
 #: convergence: the residual left is ~1e-20)
@@ -264,3 +265,24 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
     start = system.at_tolerance(options.fold_tol)
     return ladder(start, system.transfer(Y.ravel(), p0, start), p0, m0,
                   near.stats.get("curvature"), options=options)
+
+
+def fold_gradient(fold) -> dict:
+    """Exact derivatives of a fold's parameter value (e.g. kappa_s) in the scene's data:
+    ``{"theta": dp/dTheta, "h": dp/dh, <material>: ...}`` with <material> ``"lam"``
+    (Ciarlet-Geymonat) or ``"nu"`` (Koiter); an incompressible neo-Hookean shell has no
+    material parameter. Each derivative holds the other quantities (and the scene's
+    interfaces, in s) fixed; at fixed h, d/dT = sqrt(h) d/dTheta (T = Theta / sqrt(h)).
+
+    By implicit differentiation of the fold of the discrete system the fold was refined on
+    (:func:`shellbvp.continuation.fold_sensitivity`), with the derivatives of the equations
+    from JAX: exact to round-off for that system, and as accurate as the fold itself for
+    the continuous problem. Needs a fold found by the spectral method (ValueError else).
+    """
+    d = fold_sensitivity(fold)
+    material = fold.system.bvp.scene.material
+    name = {"cg": "lam", "koiter": "nu"}.get(material)
+    out = {"theta": d["theta"], "h": d["h"]}
+    if name is not None:
+        out[name] = d["material"]
+    return out

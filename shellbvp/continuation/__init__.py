@@ -8,9 +8,9 @@
 """
 
 from .arclength import Point, pseudo_arclength
-from .folds import ladder, locate_fold, polish_fold, refine_fold
+from .folds import fold_sensitivity, ladder, locate_fold, polish_fold, refine_fold
 from .newton import NewtonResult, newton, tangent
 from .options import ContinuationOptions
 
 __all__ = ["ContinuationOptions", "Point", "pseudo_arclength", "locate_fold", "polish_fold",
-           "refine_fold", "ladder", "NewtonResult", "newton", "tangent"]
+           "refine_fold", "ladder", "fold_sensitivity", "NewtonResult", "newton", "tangent"]

@@ -18,10 +18,11 @@ from scipy.optimize import brentq
 
 from ..errors import ConvergenceError
 from ..results import Fold
-from .newton import newton, tangent
+from .newton import bordered_lu, newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate"]
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate",
+           "fold_sensitivity"]
 
 #: Newton tolerance and monitor tolerance of a fold that is returned to the user
 FOLD_NEWTON_TOL = 1e-10
@@ -219,3 +220,27 @@ def ladder(system, U, p, monitor, curvature=None, *,
     raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
                            f"{options.fold_tol:g} after {options.max_refinements} refinements "
                            f"(last change {change:.2e})")
+
+
+def fold_sensitivity(fold) -> dict:
+    """d p_fold / dx for every scene quantity x of the fold's discrete system
+    (``system.parameter_derivatives``: dR/dx and dm/dx), exact to round-off.
+
+    Along the branch parametrised by the monitor m, p = P(m, x), and the fold value is
+    p* (x) = P(m*(x), x) with dP/dm = 0 at m* (an envelope): dp*/dx = dP/dx at fixed m, which
+    solves the bordered system of the monitor-prescribed Newton,
+
+        [[dR/dU, dR/dp], [dm/dU, 0]] [dU/dx; dP/dx] = -[dR/dx; dm/dx],
+
+    nonsingular at a simple fold (there dR/dU is singular, the bordered matrix is not).
+    Equivalently dp*/dx = -psi . dR/dx / psi . dR/dp with psi the left null vector of dR/dU.
+    """
+    system = fold.system
+    if not hasattr(system, "parameter_derivatives"):
+        raise ValueError(f"fold derivatives need a discretisation that offers them (the "
+                         f"spectral method), got {system.describe()}")
+    R, J, Rp = system.evaluate(fold.U, fold.p)
+    _, gm = system.monitor(fold.U)
+    factor = bordered_lu(J, Rp, gm, 0.0)
+    return {x: float(-factor.solve(np.append(dR, dm))[-1])
+            for x, (dR, dm) in system.parameter_derivatives(fold.U, fold.p).items()}

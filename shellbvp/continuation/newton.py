@@ -22,7 +22,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ConvergenceError
 
-__all__ = ["NewtonResult", "newton", "tangent", "FAIL_CONTRACTION"]
+__all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "FAIL_CONTRACTION"]
 
 #: a corrector whose update is not at least this factor smaller than the previous one is
 #: outside its basin: fail fast, so the continuation retries with a shorter step
@@ -58,6 +58,12 @@ def _bordered(J, Rp, last_row, beta):
     A = np.empty((n + 1, n + 1))
     A[:-1, :-1], A[:-1, -1], A[-1, :-1], A[-1, -1] = J, Rp, last_row, beta
     return A
+
+
+def bordered_lu(J, Rp, last_row, beta):
+    """The factored bordered matrix [[J, Rp], [last_row, beta]] (``.solve(b)``); raises
+    numpy.linalg.LinAlgError if it is singular."""
+    return _Factor(_bordered(J, Rp, last_row, beta))
 
 
 @dataclass(frozen=True)
@@ -107,7 +113,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
             history.append(("non-finite", it))
             return NewtonResult(U, p, m, False, it, history, fac, gm)
         try:
-            fac = _Factor(_bordered(J, Rp, last, beta))
+            fac = bordered_lu(J, Rp, last, beta)
         except np.linalg.LinAlgError:       # exactly singular: a fold in the prescribed quantity
             history.append(("singular", it))
             return NewtonResult(U, p, m, False, it, history, None, gm)

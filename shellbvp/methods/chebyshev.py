@@ -166,6 +166,39 @@ class ChebyshevSystem(NodalSystem):
                         (-L[i] * (nod.fp[i] @ self._Pm.T)).ravel()))
         return out
 
+    def parameter_derivatives(self, U, p) -> dict:
+        """dR/dx and dm/dx at (U, p) for the scene's x = ``"theta"`` (the edge moves, the
+        pole offset with it when it is the default; interfaces stay), ``"h"`` and
+        ``"material"`` (lam, or nu of a Koiter shell), with the unknowns held at the same
+        piece coordinates: {x: (dR (size,), dm)}. Exact: the BVP's derivatives come from
+        JAX with the inner root differentiated implicitly. The interior residual
+        Y D' - L f(s(t), Y) P' is linear in L f, whose derivative in theta is
+        L' f + L f_s s'(t) with s(t) = a + L t."""
+        bvp, n, P = self.bvp, self.n, self.P
+        Y = self.split(U)
+        f, df = bvp.sensitivities(self.s, Y, p, self._hint)
+        dr, dm_theta = bvp.boundary_sensitivities(Y[0, :, 0], Y[-1, :, -1], p)
+        da = np.zeros(P)
+        db = np.zeros(P)
+        da[0], db[-1] = bvp.eps_per_theta, 1.0
+        L = bvp.lengths
+        t = self.t
+        dLf = {"theta": [(db[i] - da[i]) * f[i] + L[i] * df[i, ..., 0]
+                         * (da[i] + (db[i] - da[i]) * t) for i in range(P)],
+               "material": [L[i] * df[i, ..., 1] for i in range(P)],
+               "h": [L[i] * df[i, ..., 2] for i in range(P)]}
+        rb = {"theta": dr[:, 0] * bvp.eps_per_theta + dr[:, 1], "material": dr[:, 2],
+              "h": dr[:, 3]}
+        out = {}
+        for x, parts in dLf.items():
+            rows = [rb[x]]
+            for i in range(P):
+                rows.append(-(parts[i] @ self._Pm.T).ravel())
+                if i < P - 1:
+                    rows.append(np.zeros(n))     # interface continuity holds for any x
+            out[x] = (np.concatenate(rows), dm_theta if x == "theta" else 0.0)
+        return out
+
     def dense(self, U, p=None):
         c = coefficients(self.split(U))
         return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))
