@@ -17,7 +17,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Callable
 
-__all__ = ["key", "memo", "cache_dir", "atomic_write_text"]
+__all__ = ["key", "memo", "cache_dir", "atomic_write_text", "atomic_write_bytes"]
 
 
 def cache_dir() -> Path | None:
@@ -70,12 +70,17 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
     """Write ``text`` to ``path`` atomically (no half-written file is ever visible), with the
     permissions an ordinary ``open(path, "w")`` would give (0666 less the umask), not the
     private 0600 of the temporary file."""
+    atomic_write_bytes(path, text.encode())
+
+
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
+    """:func:`atomic_write_text` for bytes (e.g. a rendered PNG)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", newline="") as f:
-            f.write(text)
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:

@@ -83,13 +83,15 @@ def test_written_files_have_ordinary_permissions(tmp_path):
     import os
 
     from shellbvp import atomic_write_text
+    from shellbvp.cache import atomic_write_bytes      # the figures' PNG files
 
     old = os.umask(0o022)
     try:
         atomic_write_text(tmp_path / "a.csv", "x\n")
+        atomic_write_bytes(tmp_path / "c.png", b"x")
         with open(tmp_path / "b.csv", "w") as f:
             f.write("x\n")
     finally:
         os.umask(old)
     mode = lambda name: os.stat(tmp_path / name).st_mode & 0o777  # noqa: E731
-    assert mode("a.csv") == mode("b.csv") == 0o644
+    assert mode("a.csv") == mode("b.csv") == mode("c.png") == 0o644
