@@ -69,6 +69,8 @@ CHUNKS = (8, 16, 24, 40, 56, 72, 96, 128, 192, 256, 384, 512)
 #: steps in which the inner root is carried across an interface as the fields jump
 #: (post-processing only; the methods carry it from their previous iterate)
 INTERFACE_STEPS = 16
+#: round-off scatter of a fold parameter, in eps (1 + |p|) / h (:meth:`ShellBVP.round_off`)
+ROUND_OFF_PER_H = 5.0
 #: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
 ENERGY_PANELS, ENERGY_GAUSS = 64, 4
 
@@ -225,7 +227,15 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return (rel if edge == "free" else -rel) / H
 
     def vector_field(piece, s, y, p, lam, h):
-        return pf["rhs"](y, s, fields_at(piece, s, p), lam, h)[0]
+        # f with the inner root found on values only (no tangent runs through its Newton
+        # loop) and differentiated implicitly (f_linear): the first derivatives a solver
+        # takes of f (forward-mode sensitivities in shooting) are exact, at the cost of one
+        # linear solve per direction instead of every inner iteration (2.7x less time per
+        # shooting evaluation, 0.59 -> 0.22 s at rtol 1e-8; Jacobians equal to 2e-12)
+        F = fields_at(piece, s, p)
+        stop = jax.lax.stop_gradient
+        q_root, _, _ = pf["root"](stop(y), stop(s), stop(F), stop(lam), stop(h))
+        return pf["f_linear"](y, s, F, lam, h, q_root)
 
     ax = (0, 0, 0, None, None, None, 0)
     nodal = jax.vmap(nodal_one, in_axes=ax)
@@ -350,6 +360,14 @@ class ShellBVP:
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge,
                            self.anisotropic_apex)
         self.evaluations = 0
+
+    def round_off(self, p: float) -> float:
+        """Round-off scatter of a fold's parameter value p: ``ROUND_OFF_PER_H`` eps (1 + |p|)
+        / h. Measured on caps (values at converged degrees, different degrees and Newton
+        paths): ~1e-13 relative at h = 0.01, 2e-13 at h = 1e-3, 1.3e-12 at h = 1e-4 (the
+        moment and forces enter the equations scaled by 12 / h^2). A change between rungs of
+        the ladder does not see it, so fold error estimates are at least this."""
+        return ROUND_OFF_PER_H * np.finfo(float).eps * (1.0 + abs(p)) / self.scene.h
 
     @property
     def lengths(self) -> np.ndarray:

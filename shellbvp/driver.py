@@ -50,9 +50,10 @@ def _newton_at(system, U, p, what):
     res = newton(system, U, p, 0.0, 1.0, p, tol=SOLVE_NEWTON_TOL, maxiter=SOLVE_MAXITER,
                  fail_fast=False)
     if not res.ok:
+        why = res.diagnosis or "try a closer guess"
         raise ConvergenceError(f"{what}: Newton did not converge at {system.bvp.scene.parameter}"
-                               f" = {p:g} ({system.describe()}); history (|residual|, "
-                               f"|update|): {res.history}; try a closer guess")
+                               f" = {p:g} ({system.describe()}): {why}; history (|residual|, "
+                               f"|update|): {res.history}")
     return res
 
 
@@ -157,6 +158,11 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
             progress=progress,
             admissible=(lambda pt: elliptic_point(system, pt)) if check_ellipticity else None)
     except ConvergenceError as exc:
+        if "round-off" in str(exc) and scene.material == "cg" and scene.lam > 1e3:
+            raise ConvergenceError(f"lam = {scene.lam:g} is beyond what double precision "
+                                   f"resolves here; for a nearly incompressible shell use "
+                                   f"material='nh' (the limit lam -> infinity). {exc}",
+                                   partial=exc.partial) from None
         if on_stall == "raise" or exc.partial is None:
             raise
         (pts, brackets), stop = exc.partial, stall_reason(system, exc.partial[0], str(exc))

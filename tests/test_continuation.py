@@ -159,6 +159,36 @@ def test_newton_failure_is_reported_not_returned():
         pseudo_arclength(Scalar(), np.array([0.0]), 2.0)
 
 
+class NoisyScalar(Scalar):
+    """Scalar with a residual carrying uniform noise of size ``noise`` (round-off in a
+    stiff problem's equations): Newton cannot get below ~noise / |dR/du|."""
+
+    def __init__(self, noise):
+        self.noise, self.rng = noise, np.random.default_rng(7)
+
+    def evaluate(self, U, p):
+        R, J, Rp = super().evaluate(U, p)
+        return R + self.noise * self.rng.uniform(-1, 1), J, Rp
+
+
+def test_newton_at_a_round_off_floor_converges_and_says_how_far():
+    """Noise 1e-9 (below ROUND_OFF_STEP, above tol): two stalled updates in a row end the
+    iteration as converged, p_noise the last update of p, and the answer is within it plus
+    the noise of the exact p = 0.75 at u = 0.5 (monitor prescribed)."""
+    res = newton(NoisyScalar(1e-9), np.array([0.6]), 0.7, 1.0, 0.0, 0.5, tol=1e-12)
+    assert res.ok and 0 < res.p_noise < 1e-8
+    assert res.p == pytest.approx(0.75, abs=1e-8)
+
+
+def test_newton_stalled_above_the_floor_fails_with_a_diagnosis():
+    """Noise 1e-5: the updates stall at ~1e-5, which is no converged answer; the failure
+    says that they stall (round-off), not just that Newton failed."""
+    res = newton(NoisyScalar(1e-5), np.array([0.6]), 0.7, 1.0, 0.0, 0.5, tol=1e-12,
+                 fail_fast=False)
+    assert not res.ok
+    assert "stall" in res.diagnosis and "round-off" in res.diagnosis
+
+
 def test_locate_fold_refuses_a_bracket_without_a_turn():
     pts, _ = pseudo_arclength(Scalar(), np.array([0.0]), 0.0, options=opts(0.1, 0.1),
                               p_stop=(-1.0, 0.5))

@@ -72,8 +72,9 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
     res = newton(system, U0, p0, 0.0, 1.0, p0, tol=o.newton_tol, maxiter=START_MAXITER,
                  fail_fast=False)
     if not res.ok:
-        raise ConvergenceError(f"continuation: no solution at the start {p0:g}: Newton history "
-                               f"{res.history}")
+        why = f"{res.diagnosis}; " if res.diagnosis else ""
+        raise ConvergenceError(f"continuation: no solution at the start {p0:g}: {why}Newton "
+                               f"history {res.history}")
     v, _, dp = tangent(res)
     pts = [_point(res, v, dp, math.copysign(1.0, direction * dp), 0.0, n)]
     if progress:

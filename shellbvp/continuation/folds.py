@@ -40,6 +40,7 @@ class _Slope:
         self.system, self.tol = system, tol
         self.known = list(known)   # (m, U, p, dU/dm, dp/dm)
         self.solves = self.iterations = 0
+        self.round_off = 0.0       # largest uncertainty of p left by a Newton round-off floor
 
     def __call__(self, mv):
         for k in self.known:
@@ -50,6 +51,7 @@ class _Slope:
                      tol=self.tol)
         self.solves += 1
         self.iterations += res.iterations
+        self.round_off = max(self.round_off, res.p_noise)
         if not res.ok:
             raise ConvergenceError(f"fold location: Newton failed at monitor {mv:.10g}: "
                                    f"{res.history}")
@@ -64,7 +66,7 @@ class _Slope:
 
     def stats(self, t0, extra=0):
         return dict(solves=self.solves, newton_iterations=self.iterations + extra,
-                    wall_time=time.perf_counter() - t0)
+                    round_off=self.round_off, wall_time=time.perf_counter() - t0)
 
 
 def locate_fold(system, a, b, *, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL) -> Fold:
@@ -110,6 +112,7 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
                                f"{res.history}")
     v, _, dp = tangent(res)
     slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol)
+    slope.round_off = res.p_noise
     m0, g0 = monitor, dp
     if curvature is None or not math.isfinite(curvature) or curvature == 0:
         m1 = monitor + step
@@ -160,9 +163,9 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
                 index: int = -1) -> Fold:
     """The fold between branch points a and b, to ``options.fold_tol``.
 
-    Seeded by :func:`bracket_estimate`, then refined on the ladder (:func:`ladder`). The
-    branch itself may be followed on a coarser system than the ladder's: it only brackets
-    the fold.
+    Seeded by :func:`bracket_estimate`, then refined on the ladder (:func:`ladder`); where
+    that fails, seeded by :func:`locate_fold` on the branch's system instead. The branch
+    itself may be followed on a coarser system than the ladder's: it only brackets the fold.
     """
     t0 = time.perf_counter()
     m0, c0 = bracket_estimate(a, b)
@@ -170,8 +173,19 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
     dm = m0 - q.monitor
     U0 = q.U + dm * q.dU / q.tangent[0]
     p0 = q.p + dm * q.tangent[1] / q.tangent[0]
-    return ladder(system, U0, p0, m0, c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
-                  options=options, index=index, t0=t0)
+    try:
+        return ladder(system, U0, p0, m0,
+                      c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
+                      options=options, index=index, t0=t0)
+    except ConvergenceError as exc:
+        # the cubic seed was too far for Newton on dp/dm (a coarse branch of a deep cap):
+        # locate the fold on the branch's own system by bracketing (Brent), then the ladder
+        first_error = exc
+    try:
+        f = locate_fold(system, a, b, monitor_tol=max(FOLD_MONITOR_TOL, options.fold_tol))
+    except ConvergenceError:
+        raise first_error from None
+    return ladder(system, f.U, f.p, f.monitor, options=options, index=index, t0=t0)
 
 
 def ladder(system, U, p, monitor, curvature=None, *,
@@ -183,7 +197,10 @@ def ladder(system, U, p, monitor, curvature=None, *,
     its refinement, and so on, until the fold parameter changes by at most ``fold_tol`` from
     one rung to the next; that change is the error estimate and the finer fold is returned
     (so the estimate bounds the error of the coarser value and overestimates that of the
-    returned one). Raises ConvergenceError after ``options.max_refinements`` rungs.
+    returned one). The estimate is at least the round-off in p, which a change between
+    rungs does not see: that of a Newton solve stalled at its floor and the problem's own
+    round-off scatter (``bvp.round_off(p)`` where offered); ConvergenceError if it exceeds
+    ``fold_tol``, or after ``options.max_refinements`` rungs.
     """
     t0 = time.perf_counter() if t0 is None else t0
     first = system.for_tolerance(options.fold_tol) if hasattr(system, "for_tolerance") \
@@ -209,11 +226,25 @@ def ladder(system, U, p, monitor, curvature=None, *,
         iterations += fine.stats["newton_iterations"]
         change = abs(fine.p - current.p)
         if change <= options.fold_tol:
+            # round-off leaves p uncertain by the last update of a Newton solve stalled at
+            # its floor, and by the problem's own round-off scatter where it states one (a
+            # change between rungs sees neither): the estimate includes both, and more than
+            # fold_tol is an error, not a result that misses its tolerance
+            noise = max(current.stats["round_off"], fine.stats["round_off"],
+                        fine.system.bvp.round_off(fine.p)
+                        if hasattr(fine.system.bvp, "round_off") else 0.0)
+            if noise > options.fold_tol:
+                raise ConvergenceError(
+                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
+                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
+                    f"or stiff shell); ask for a tolerance >= {noise:.0e}")
+            estimate = max(change, noise)
             return fine.with_estimate(
-                change, index=index,
+                estimate, index=index,
                 stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
                            resolution=finer.describe(), solves=solves,
-                           newton_iterations=iterations, error_estimate=change,
+                           newton_iterations=iterations, error_estimate=estimate,
+                           round_off=noise,
                            curvature=fine.stats["curvature"],
                            wall_time=time.perf_counter() - t0))
         current = fine

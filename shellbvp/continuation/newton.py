@@ -27,6 +27,11 @@ __all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "FAIL_CONTRACTION
 #: a corrector whose update is not at least this factor smaller than the previous one is
 #: outside its basin: fail fast, so the continuation retries with a shorter step
 FAIL_CONTRACTION = 0.5
+#: relative update at which an iteration that stops contracting has reached the round-off
+#: floor of the discrete equations rather than left its basin: thin shells (h0/R0 <= 1e-3)
+#: stall at updates of ~1e-9 (the inner constitutive root is itself accepted at its floor,
+#: 1e-9). Such an iterate is converged to about that update, which it reports as ``floor``.
+ROUND_OFF_STEP = 1e-8
 
 
 class _Factor:
@@ -80,13 +85,32 @@ class NewtonResult:
     history: list = field(repr=False)
     factor: object = field(repr=False, default=None)
     gm: np.ndarray = field(repr=False, default=None)
+    @property
+    def diagnosis(self) -> str:
+        """Why the iteration failed, in words, when the history says more than its numbers:
+        updates that stall far below 1 (not a bad start: round-off in the equations above
+        the tolerance)."""
+        steps = [h[1] for h in self.history if isinstance(h[0], float)]
+        # stalled: small updates that wander instead of falling quadratically
+        if self.ok or len(steps) < 3 or max(steps[-3:]) > 1e-3 \
+                or steps[-1] < 0.01 * min(steps[-3:-1]):
+            return ""
+        return (f"the updates stall at ~{min(steps[-3:]):.0e} relative: round-off in the "
+                f"discrete equations is above the Newton tolerance (a very stiff material or "
+                f"a very thin shell)")
+
+    #: with convergence at the round-off floor: the last update of p, the uncertainty of p
+    #: it leaves (0 after quadratic convergence, where the error is far below the update)
+    p_noise: float = 0.0
 
 
 def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
            fail_fast: bool = True, min_iterations: int = 1) -> NewtonResult:
     """Bordered Newton on R(U, p) = 0, alpha m(U) + row . U + beta p = c (row optional).
 
-    Converged when the update is below ``tol`` relative to the unknowns, after at least
+    Converged when the update is below ``tol`` relative to the unknowns, or when it stalls
+    twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
+    last update of p), after at least
     ``min_iterations`` iterations (2: the point is then the result of a step taken with the
     Jacobian of a point already within tol, not of a start whose Jacobian may be inexact,
     e.g. carried from another discretisation with a cold inner solve). Returns
@@ -99,6 +123,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     history = []
     fac = gm = None
     m = math.nan
+    floor_hits = 0
     for it in range(1, maxiter + 1):
         try:
             R, J, Rp = system.evaluate(U, p)
@@ -126,7 +151,18 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         if step <= tol and it >= min_iterations:
             m, gm = system.monitor(U)
             return NewtonResult(U, p, m, True, it, history, fac, gm)
-        if fail_fast and it >= 2 and step > FAIL_CONTRACTION * history[-2][1]:
+        stalled = it >= 2 and step > FAIL_CONTRACTION * history[-2][1]
+        if stalled and step <= ROUND_OFF_STEP:
+            # a tiny update that does not contract: the first step from a cold inner root
+            # can be off by that much (the next one undoes it, the one after converges), so
+            # only two stalls in a row are the round-off floor
+            floor_hits += 1
+            if floor_hits >= 2:
+                m, gm = system.monitor(U)
+                return NewtonResult(U, p, m, True, it, history, fac, gm, p_noise=abs(d[-1]))
+            continue
+        floor_hits = 0
+        if fail_fast and stalled:
             break
         if it >= 4 and history[-1][1] > history[-2][1] > history[-3][1]:
             break   # the updates grow: diverging

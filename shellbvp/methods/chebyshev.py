@@ -23,15 +23,16 @@ from .base import NodalSystem
 
 __all__ = ["Chebyshev", "ChebyshevSystem", "chebyshev_points", "differentiation_matrix",
            "coefficients", "default_nodes", "bracketing_nodes", "fold_nodes", "MIN_NODES",
-           "MAX_NODES", "REFINE_STEP"]
+           "MAX_NODES", "REFINE_STEP", "refine_step"]
 
 #: the smallest degree that resolves a pole region and an edge layer at all
 MIN_NODES = 8
 #: beyond this the dense LU (size 6 P (N + 1)) costs more than it gains: use a thicker
 #: shell, a smaller tolerance, or the collocation method
 MAX_NODES = 400
-#: degree added per rung of the refinement ladder (kappa_s of the default cap converges
-#: by ~1.5 decades per 4 degrees from N = 16 to 40: a rung is a clear step, not noise)
+#: degree added per rung of the refinement ladder at N <= 32 (kappa_s of the default cap
+#: converges by ~1.5 decades per 4 degrees from N = 16 to 40: a rung is a clear step, not
+#: noise); see :func:`refine_step` for larger degrees
 REFINE_STEP = 4
 #: decades of fold accuracy gained per rung at the degrees where tolerances live
 #: (measured on the default cap, T = 5.2: errors 5e-7, 1.5e-8, 9e-11, 6.5e-11, 4.6e-12,
@@ -89,6 +90,16 @@ def evaluate(coef: np.ndarray, t) -> np.ndarray:
     return np.polynomial.chebyshev.chebval(1.0 - 2.0 * np.asarray(t, dtype=float), coef.T)
 
 
+def refine_step(N: int) -> int:
+    """Degrees added per rung at degree N: ``REFINE_STEP`` per 32 degrees. The error falls
+    like rho^-N with ln rho ~ sqrt(h) / Theta (the edge layer's width over the meridian's
+    length), and the degree a cap needs grows like Theta / sqrt(h) too: a rung in
+    proportion to N gains the same ~1.5 decades at every depth. With fixed rungs of 4 a deep
+    cap (Theta = 0.95 pi, h = 0.01, N = 180) gained a factor ~0.6 per rung, and one change
+    between rungs (3e-10) understated the error (1e-9)."""
+    return REFINE_STEP * max(1, round(N / 32))
+
+
 def default_nodes(scene) -> int:
     """Degree per piece for a scene: the edge boundary layer has width ~ sqrt(h) R0, so the
     degree grows with the shallowness T = theta / sqrt(h) (24 at T <= 4, +8 per 4/3 of T)."""
@@ -119,14 +130,16 @@ def fold_nodes(scene, tol: float) -> int:
     error is expected below tol (from the convergence rate ``DECADES_PER_RUNG``), so that the
     next rung confirms it; the ladder goes on by itself where the expectation is wrong."""
     rungs = math.ceil((-math.log10(tol) - 6.0) / DECADES_PER_RUNG)
-    return min(MAX_NODES, max(MIN_NODES * 2, default_nodes(scene) - 12 + REFINE_STEP * rungs))
+    N = default_nodes(scene)
+    step = refine_step(N)
+    return min(MAX_NODES, max(MIN_NODES * 2, N - 3 * step + step * rungs))
 
 
 @dataclass(frozen=True)
 class Chebyshev:
     """Chebyshev collocation of degree ``nodes`` per piece (default: :func:`default_nodes`
     of the scene, which resolves kappa_s of a cap to ~1e-8; the refinement ladder adds
-    ``REFINE_STEP`` until a fold is converged to its tolerance)."""
+    :func:`refine_step` degrees until a fold is converged to its tolerance)."""
 
     nodes: int | None = None
     name = "spectral"
@@ -221,7 +234,7 @@ class ChebyshevSystem(NodalSystem):
         return self if first.N <= self.N else first
 
     def refined(self) -> "ChebyshevSystem":
-        N = self.N + REFINE_STEP
+        N = self.N + refine_step(self.N)
         if N > MAX_NODES:
             raise ValueError(f"cannot refine beyond {MAX_NODES} Chebyshev nodes")
         return ChebyshevSystem(self.bvp, N)

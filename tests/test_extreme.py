@@ -1,0 +1,54 @@
+"""Stiff and extreme caps (the study is figures/extreme_cases.py): limits of the model and
+of double precision end in clear errors or honest answers, never in silent wrong numbers."""
+
+import math
+
+import pytest
+
+from shellbvp import ConvergenceError
+from shellbvp.problems import cap_eversion as ce
+
+THETA = math.pi / 6
+
+
+def test_relaxed_kappa_s_tends_to_the_incompressible_limit():
+    """As lam -> infinity the relaxed CG cap tends to the incompressible neo-Hookean one
+    (an independent material model), like 1/lam: the gap shrinks ~10x per decade."""
+    nh = ce.snap_curvature(THETA, 0.01, material="nh").kappa_s
+    gaps = [ce.snap_curvature(THETA, 0.01, lam).kappa_s - nh for lam in (1e3, 1e4)]
+    assert 0 < gaps[1] < gaps[0] / 5
+    assert gaps[1] < 2e-4
+
+
+def test_round_off_beyond_double_precision_is_a_clear_error():
+    """Relaxed CG at lam = 1e6 (h = 0.01): the forces carry round-off ~ lam eps 12/h^2 and
+    Newton stalls at ~5e-7; the error says so and names the incompressible material."""
+    with pytest.raises(ConvergenceError, match="material='nh'.*round-off"):
+        ce.snap_curvature(THETA, 0.01, 1e6)
+
+
+@pytest.mark.slow
+def test_thin_shell_reaches_its_round_off_floor_honestly():
+    """h = 1e-3 (T = 16.6, N ~ 100): the polishing Newton's first step from a cold inner
+    root is off by ~1e-9 and the next undoes it (it used to fail there); kappa_s at tol 1e-9
+    agrees with tol 1e-11 within the estimate plus the round-off scatter (~2e-13 relative)."""
+    a = ce.snap_curvature(THETA, 1e-3, model="plane_strain", tol=1e-9)
+    b = ce.snap_curvature(THETA, 1e-3, model="plane_strain", tol=1e-11)
+    assert abs(a.kappa_s - b.kappa_s) <= a.error_estimate + 5e-13 * a.kappa_s
+
+
+def test_tolerance_below_the_round_off_floor_is_refused_with_the_allowed_one():
+    """The default cap's kappa_s scatters by ~1e-13 with round-off (the floor in the
+    estimate is 5 eps (1 + kappa_s) / h = 6e-13): tol 1e-13 cannot be promised."""
+    with pytest.raises(ConvergenceError, match=r"ask for a tolerance >= 6e-13"):
+        ce.snap_curvature(THETA, 0.01, tol=1e-13)
+
+
+@pytest.mark.slow
+def test_deep_cap_estimate_bounds_its_error():
+    """Theta = 0.95 pi (T = 29.8, N ~ 180): with rungs of 4 degrees the fold converged by a
+    factor ~0.6 per rung and one change (3e-10) understated the error (1e-9); rungs in
+    proportion to N make the estimate bound the difference to a finer computation."""
+    a = ce.snap_curvature(0.95 * math.pi, 0.01, tol=1e-9)
+    b = ce.snap_curvature(0.95 * math.pi, 0.01, tol=1e-11)
+    assert abs(a.kappa_s - b.kappa_s) <= a.error_estimate
