@@ -121,10 +121,44 @@ def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
 
+@lru_cache(maxsize=None)
+def _package_source() -> str:
+    """A hash of the package's source (every .py file): part of every disk key of code."""
+    import hashlib
+    from pathlib import Path
+
+    h = hashlib.sha256()
+    for f in sorted(Path(__file__).parent.rglob("*.py")):
+        h.update(f.read_bytes())
+    return h.hexdigest()
+
+
+def _disk_key(fields, *parts) -> str | None:
+    """A disk key for compiled kernels of ``fields`` and ``parts``, or None when the fields
+    are not a module-level function of this package (a user's function, a closure: their
+    code is not covered by the package's source hash, so their programs stay in memory)."""
+    import hashlib
+    import sys
+    from pathlib import Path
+
+    module = getattr(fields, "__module__", "") or ""
+    qualname = getattr(fields, "__qualname__", "") or ""
+    if not module.startswith("shellbvp") or "<" in qualname or \
+            getattr(sys.modules.get(module), qualname, None) is not fields:
+        return None
+    # the scenes (shellbvp.problems) live outside the package folder: hash their module too
+    source = hashlib.sha256(Path(sys.modules[module].__file__).read_bytes()).hexdigest()
+    return repr((_package_source(), module, qualname, source, parts))
+
+
 @lru_cache(maxsize=32)
 def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False):
     """The scene's compiled functions (see :class:`ShellBVP`)."""
     pf = point_functions(model, material, rhob1, metric)
+    base = _disk_key(fields, model, material, rhob1, metric, P, apex, edge, log_apex)
+
+    def packed(fn, name):
+        return Packed(fn, None if base is None else f"{name}:{base}")
 
     def field_piece(i):
         def F(s, p):
@@ -272,13 +306,13 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(
-        collocate=Packed(collocate),
-        nodal=Packed(nodal),
-        state=Packed(state_along),
-        boundary=Packed(boundary_jac),
-        observable=Packed(jax.value_and_grad(observable, argnums=(0, 1))),
-        sensitivity=Packed(jax.vmap(sensitivity_one, in_axes=ax)),
-        boundary_sensitivity=Packed(boundary_sensitivity),
+        collocate=packed(collocate, "collocate"),
+        nodal=packed(nodal, "nodal"),
+        state=packed(state_along, "state"),
+        boundary=packed(boundary_jac, "boundary"),
+        observable=packed(jax.value_and_grad(observable, argnums=(0, 1)), "observable"),
+        sensitivity=packed(jax.vmap(sensitivity_one, in_axes=ax), "sensitivity"),
+        boundary_sensitivity=packed(boundary_sensitivity, "boundary_sensitivity"),
         vector_field=vector_field,
     )
 

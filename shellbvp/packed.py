@@ -25,37 +25,70 @@ class Packed:
     Each host-to-device argument costs ~15 us and each device-to-host output ~5 us; a
     collocation evaluation has 11 arguments and 15 outputs, which made the host overhead of
     a small system (Chebyshev N = 32) half of its evaluation. Shapes and dtypes of the
-    arguments fix the layouts, found once per shape (the output's by ``jax.eval_shape``).
-    Integer arguments travel as float64 (exact below 2^53).
+    arguments fix the layouts, found once per shape. Integer arguments travel as float64
+    (exact below 2^53).
+
+    Each program is traced once, by ``jax.export`` (which also gives the output layout).
+    With a ``key`` (a string that identifies ``fn`` and everything it closes over) the
+    exported program is kept on disk (:func:`shellbvp.cache.memo`) and a later process
+    skips tracing (~1.2 s of a relaxed energy's W-jet): with JAX's persistent compilation
+    cache on as well, it then neither traces nor compiles.
     """
 
-    def __init__(self, fn):
+    def __init__(self, fn, key: str | None = None):
         self._fn = fn
+        self._key = key
         self._programs = {}
 
-    def _program(self, args):
-        shapes = [np.shape(a) for a in args]
-        dtypes = [np.asarray(a).dtype for a in args]
+    def _exported(self, n, shapes, dtypes):
+        """(jax.export.Exported, leaves [(shape, dtype)], skeleton of the output tree with
+        leaf indices as leaves), from disk when the key allows."""
+        from jax import export
+
         sizes = [math.prod(sh) for sh in shapes]
         starts = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         found = {}
 
         def unpack(flat):
-            return [flat[a:a + n].reshape(sh).astype(dt) if sh else flat[a].astype(dt)
-                    for a, n, sh, dt in zip(starts, sizes, shapes, dtypes)]
+            return [flat[a:a + m].reshape(sh).astype(dt) if sh else flat[a].astype(dt)
+                    for a, m, sh, dt in zip(starts, sizes, shapes, dtypes)]
 
         def packed(flat):
             leaves, found["tree"] = jax.tree_util.tree_flatten(self._fn(*unpack(flat)))
-            found["leaves"] = [(x.shape, x.dtype) for x in leaves]
+            found["leaves"] = [(x.shape, str(x.dtype)) for x in leaves]
             return jnp.concatenate([jnp.ravel(x).astype(jnp.float64) for x in leaves])
 
-        # one trace gives both the program and the output layout (tracing the W-jet of a
-        # relaxed model takes seconds: a second trace for the layout would double it)
-        program = jax.jit(packed).trace(
-            jax.ShapeDtypeStruct((int(starts[-1]),), np.float64)).lower().compile()
-        ends = np.cumsum([math.prod(sh) for sh, _ in found["leaves"]])
-        layout = [(e - math.prod(sh), e, sh, dt) for (sh, dt), e in zip(found["leaves"], ends)]
-        return program, found["tree"], layout
+        def trace():
+            ex = export.export(jax.jit(packed))(jax.ShapeDtypeStruct((n,), np.float64))
+            skeleton = jax.tree_util.tree_unflatten(found["tree"],
+                                                    list(range(len(found["leaves"]))))
+            return ex, found["leaves"], skeleton
+
+        if self._key is None:
+            return trace()
+        from . import cache
+
+        def stored():
+            ex, leaves, skeleton = trace()
+            return ex.serialize(), leaves, skeleton
+
+        k = cache.key("exported", self._key, shapes, [str(d) for d in dtypes],
+                      jax.__version__)
+        blob, leaves, skeleton = cache.memo(k, stored)
+        return export.deserialize(blob), leaves, skeleton
+
+    def _program(self, args):
+        shapes = [tuple(np.shape(a)) for a in args]
+        dtypes = [np.asarray(a).dtype for a in args]
+        n = int(sum(math.prod(sh) for sh in shapes))
+        exported, leaves, skeleton = self._exported(n, shapes, dtypes)
+        program = jax.jit(exported.call).trace(
+            jax.ShapeDtypeStruct((n,), np.float64)).lower().compile()
+        tree = jax.tree_util.tree_structure(skeleton)
+        ends = np.cumsum([math.prod(sh) for sh, _ in leaves])
+        layout = [(e - math.prod(sh), e, tuple(sh), np.dtype(dt))
+                  for (sh, dt), e in zip(leaves, ends)]
+        return program, tree, layout
 
     def dispatch(self, *args):
         """Start the computation (JAX dispatches asynchronously) and return a handle for

@@ -188,3 +188,33 @@ def test_generated_code_reloads_from_disk_without_sympy(tmp_path, monkeypatch):
     for _ in range(5):
         x = (*rng.uniform(0.8, 1.2, 2), *rng.uniform(-2, 2, 4), 1.0, 0.01)
         assert float(reloaded(*x)) == float(fresh(*x))
+
+
+def test_exported_kernels_reload_from_disk_without_tracing(tmp_path, monkeypatch):
+    """A compiled kernel is traced once, by jax.export, and kept on disk: a later Packed with
+    the same key deserialises it instead of tracing (tracing is refused here) and computes
+    the same numbers. Reference: the freshly traced program."""
+    import numpy as np
+    from jax import export
+
+    from shellbvp.jaxsetup import jax
+    from shellbvp.packed import Packed
+
+    import jax.numpy as jnp
+
+    monkeypatch.setenv("SHELLBVP_CACHE_DIR", str(tmp_path))
+
+    def fn(x, k):
+        return jnp.sin(x) * k, (jnp.sum(x) > 0, jnp.linalg.solve(jnp.eye(2) * k, x[:2]))
+
+    x = np.array([0.3, -1.2, 2.0])
+    fresh = Packed(fn, key="test-kernel")(x, 2.0)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("traced again instead of reading the disk entry")
+
+    monkeypatch.setattr(export, "export", refuse)
+    reloaded = Packed(fn, key="test-kernel")(x, 2.0)
+    for a, b in zip(jax.tree_util.tree_leaves(fresh), jax.tree_util.tree_leaves(reloaded)):
+        assert np.asarray(a).dtype == np.asarray(b).dtype
+        assert np.array_equal(a, b)
