@@ -201,8 +201,9 @@ def ladder(system, U, p, monitor, curvature=None, *,
     (so the estimate bounds the error of the coarser value and overestimates that of the
     returned one). The estimate is at least the round-off in p, which a change between
     rungs does not see: that of a Newton solve stalled at its floor and the problem's own
-    round-off scatter (``bvp.round_off(p)`` where offered); ConvergenceError if it exceeds
-    ``fold_tol``, or after ``options.max_refinements`` rungs.
+    round-off scatter (``bvp.round_off(p)`` where offered), plus the error in p of the
+    monitor the fold was located at, which both rungs share; ConvergenceError if the
+    round-off exceeds ``fold_tol``, or after ``options.max_refinements`` rungs.
     """
     t0 = time.perf_counter() if t0 is None else t0
     first = system.for_tolerance(options.fold_tol) if hasattr(system, "for_tolerance") \
@@ -235,17 +236,17 @@ def ladder(system, U, p, monitor, curvature=None, *,
             noise = max(current.stats["round_off"], fine.stats["round_off"],
                         fine.system.bvp.round_off(fine.p)
                         if hasattr(fine.system.bvp, "round_off") else 0.0)
+            if noise > options.fold_tol:
+                raise ConvergenceError(
+                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
+                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
+                    f"or stiff shell); ask for a tolerance >= {noise:.0e}")
             # the rungs share the monitor the fold was located at (the finer one starts there
             # and stops when its predicted move is below the monitor tolerance), so the
             # change between them does not see that location error either: add it, twice
             # its quadratic-model value (c is a secant estimate and p(m) not exactly a
             # parabola: on a thin cap at tol 1e-4 the model gave 5.96e-9 for an error of
             # 6.06e-9)
-            if noise > options.fold_tol:
-                raise ConvergenceError(
-                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
-                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
-                    f"or stiff shell); ask for a tolerance >= {noise:.0e}")
             estimate = max(change, noise) + 2.0 * fine.stats["location"]
             return fine.with_estimate(
                 estimate, index=index,

@@ -30,7 +30,7 @@ FAIL_CONTRACTION = 0.5
 #: relative update at which an iteration that stops contracting has reached the round-off
 #: floor of the discrete equations rather than left its basin: thin shells (h0/R0 <= 1e-3)
 #: stall at updates of ~1e-9 (the inner constitutive root is itself accepted at its floor,
-#: 1e-9). Such an iterate is converged to about that update, which it reports as ``floor``.
+#: 1e-9). Such an iterate is converged to about that update (``NewtonResult.p_noise``).
 ROUND_OFF_STEP = 1e-8
 
 
@@ -85,6 +85,10 @@ class NewtonResult:
     history: list = field(repr=False)
     factor: object = field(repr=False, default=None)
     gm: np.ndarray = field(repr=False, default=None)
+    #: with convergence at the round-off floor: the last update of p, the uncertainty of p
+    #: it leaves (0 after quadratic convergence, where the error is far below the update)
+    p_noise: float = 0.0
+
     @property
     def diagnosis(self) -> str:
         """Why the iteration failed, in words, when the history says more than its numbers:
@@ -99,10 +103,6 @@ class NewtonResult:
                 f"discrete equations is above the Newton tolerance (a very stiff material or "
                 f"a very thin shell)")
 
-    #: with convergence at the round-off floor: the last update of p, the uncertainty of p
-    #: it leaves (0 after quadratic convergence, where the error is far below the update)
-    p_noise: float = 0.0
-
 
 def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
            fail_fast: bool = True, min_iterations: int = 1) -> NewtonResult:
@@ -110,8 +110,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
 
     Converged when the update is below ``tol`` relative to the unknowns, or when it stalls
     twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
-    last update of p), after at least
-    ``min_iterations`` iterations (2: the point is then the result of a step taken with the
+    last update of p), after at least ``min_iterations`` iterations (2: the point is then the result of a step taken with the
     Jacobian of a point already within tol, not of a start whose Jacobian may be inexact,
     e.g. carried from another discretisation with a cold inner solve). Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
