@@ -118,7 +118,8 @@ def main():
     write_csv(args.out / "work_precision.csv", header, rows)
 
     plt = pyplot()
-    fig, axes = plt.subplots(1, len(CAPS), figsize=(4.2 * len(CAPS), 3.8), sharey=True)
+    fig, axes = plt.subplots(1, len(CAPS), figsize=(4.2 * len(CAPS), 3.8), sharex=True,
+                             sharey=True)
     marks = {"spectral": "o-", "collocation": "s-", "shooting": "^-"}
     for ax, cap_name in zip(axes, CAPS):
         for backend, mark in marks.items():
