@@ -18,7 +18,7 @@ at the default cap it equals the independent AUTO-07p model of the same equation
 ~1e-12, and the finest collocation and shooting values agree with it within their own
 estimates (printed). Times: every setting is called once first (``seconds_first_call``:
 it compiles what it needs, in a process that has run the settings before it), then in
-steady state: the median of ``--repeats`` calls (spectral) or one call (shooting,
+steady state: the median of ``--repeats`` calls (spectral) or of 3 (shooting,
 collocation).
 
 Writes work_precision.csv and work_precision.png.
@@ -101,7 +101,7 @@ def main():
         tqdm.write(f"{cap_name}: reference kappa_s {ref.kappa_s!r} (estimate "
                    f"{ref.error_estimate:.1e})")
         for method, tol, knob in settings(backend, args.quick):
-            n = args.repeats if backend == "spectral" else 1
+            n = args.repeats if backend == "spectral" else 3
             try:
                 r, times, first = timed(cap, method, tol, n)
             except ConvergenceError as exc:

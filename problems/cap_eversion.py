@@ -16,12 +16,15 @@ maximum of kappa along the branch; shallow caps evert without a fold.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 import shellbvp
 from shellbvp import Chebyshev, ContinuationOptions, Scene
+
+#: ODE tolerance at which a shooting branch is followed to bracket its snap fold
+BRACKET_RTOL = 1e-5
 
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset",
            "Onset", "flat_slope"]
@@ -106,9 +109,11 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                    options: ContinuationOptions | None = None,
                    gradient: bool = False) -> SnapResult:
     """kappa_s: the first fold of the branch from kappa = 0, refined until it changes by at
-    most ``tol`` on the method's ladder (Chebyshev: 4 more nodes per rung from the degree
-    tol needs, the branch itself followed on a coarser degree only to bracket the fold;
-    shooting: ODE tolerance / 10; collocation: every interval halved); that change is the
+    most ``tol`` on the method's ladder (Chebyshev: 4 more nodes per rung and 32 degrees from
+    the degree tol needs, the branch itself followed on a coarser degree only to bracket the
+    fold; shooting: ODE tolerance / 10 per rung from the method's rtol, the branch followed
+    at ``BRACKET_RTOL`` unless the method sets ``bracket_rtol``; collocation: every interval
+    halved); that change, with the round-off floor and the fold's location error, is the
     error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
     unless ``options`` are given. ``gradient=True`` adds the exact derivatives of kappa_s in
     Theta, h and the material parameter (``SnapResult.gradient``; spectral method only), by
@@ -121,6 +126,10 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
         # that tol needs: follow it on a coarser grid
         method = Chebyshev(nodes=shellbvp.bracketing_nodes(scene(theta, h, lam, model=model,
                                                                  material=material, nu=nu)))
+    elif isinstance(method, shellbvp.Shooting) and method.bracket_rtol is None \
+            and method.steps is None:
+        # likewise for shooting: the branch at a loose ODE tolerance, the fold from rtol
+        method = replace(method, bracket_rtol=max(method.rtol, BRACKET_RTOL))
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
                method=method, tol=tol, options=options, energies=False)
     T = theta / math.sqrt(h)

@@ -272,6 +272,16 @@ def test_bad_options_are_named():
             ContinuationOptions(**kw)
 
 
+def test_bad_method_options_are_named():
+    from shellbvp import Shooting
+
+    for kw, name in [(dict(segments=0), "segments"), (dict(rtol=1e-20), "rtol"),
+                     (dict(rtol=1e-8, bracket_rtol=1e-9), "bracket_rtol"),
+                     (dict(bracket_rtol=0.5), "bracket_rtol"), (dict(steps=0), "steps")]:
+        with pytest.raises(ValueError, match=name):
+            Shooting(**kw)
+
+
 @pytest.fixture(scope="module")
 def cap_branch():
     return ce.branch(math.pi / 6, 0.01, 1.0, kappa_max=0.6)

@@ -62,6 +62,9 @@ class Shooting:
     segments: int | None = None
     rtol: float = 1e-10
     steps: int | None = None
+    #: follow branches at this looser ODE tolerance, and locate folds from ``rtol`` (the
+    #: branch only brackets them; None: everything at ``rtol``)
+    bracket_rtol: float | None = None
     name = "shooting"
 
     def __post_init__(self):
@@ -71,13 +74,19 @@ class Shooting:
                              f"{self.segments!r}")
         if not (isinstance(self.rtol, float) and 1e-15 < self.rtol < 1e-2):
             raise ValueError(f"rtol must be a float in (1e-15, 1e-2), got {self.rtol!r}")
+        if self.bracket_rtol is not None and not (
+                isinstance(self.bracket_rtol, float) and self.rtol <= self.bracket_rtol < 1e-2):
+            raise ValueError(f"bracket_rtol must be None or a float in [rtol, 1e-2), got "
+                             f"{self.bracket_rtol!r}")
         if self.steps is not None and not (isinstance(self.steps, (int, np.integer))
                                            and self.steps >= 1):
             raise ValueError(f"steps must be a positive integer or None, got {self.steps!r}")
 
     def discretise(self, bvp) -> "ShootingSystem":
         segments = default_segments(bvp) if self.segments is None else self.segments
-        return ShootingSystem(bvp, segments, self.rtol, self.steps)
+        if self.bracket_rtol is None or self.steps is not None:
+            return ShootingSystem(bvp, segments, self.rtol, self.steps)
+        return ShootingSystem(bvp, segments, self.bracket_rtol, fold_rtol=self.rtol)
 
 
 @lru_cache(maxsize=32)
@@ -125,8 +134,11 @@ def _compiled(vector_field, adaptive):
 class ShootingSystem:
     """Multiple shooting of a BVP as a finite system R(U, p) = 0 (6 (n + 1) unknowns)."""
 
-    def __init__(self, bvp, segments: int, rtol: float = 1e-10, steps: int | None = None):
+    def __init__(self, bvp, segments: int, rtol: float = 1e-10, steps: int | None = None,
+                 fold_rtol: float | None = None):
         self.bvp = bvp
+        #: the ODE tolerance the refinement ladder starts from (:meth:`for_tolerance`)
+        self.fold_rtol = rtol if fold_rtol is None else fold_rtol
         per_piece = max(1, int(math.ceil(segments / bvp.P)))
         edges = [np.linspace(bvp.a[i], bvp.b[i], per_piece + 1) for i in range(bvp.P)]
         self.s0 = np.concatenate([e[:-1] for e in edges])
@@ -210,6 +222,13 @@ class ShootingSystem:
         if self.steps is not None:
             return ShootingSystem(self.bvp, self.segments, steps=2 * self.steps)
         return ShootingSystem(self.bvp, self.segments, self.rtol / RTOL_STEP)
+
+    def for_tolerance(self, tol: float) -> "ShootingSystem":
+        """The first rung of the fold ladder: this system at ``fold_rtol`` (the branch may
+        have been followed at a looser tolerance, only to bracket the folds)."""
+        if self.steps is not None or self.fold_rtol >= self.rtol:
+            return self
+        return ShootingSystem(self.bvp, self.segments, self.fold_rtol)
 
     def transfer(self, U, p, other) -> np.ndarray:
         if other.n != self.n:
