@@ -15,9 +15,10 @@ Grid (issue #10):
 * depth: Theta / pi in {0.05, 0.15, ..., 0.95}, h0/R0 = 0.01, lam = 1, relaxed
   (T = Theta / sqrt(h) from 1.6 to 29.8).
 
-Writes extreme_cases.csv and prints the table as Markdown (for the README).
+Writes extreme_cases.csv and extreme_cases.png and prints the table as Markdown (for the
+README).
 
-    python figures/extreme_cases.py [--quick] [--timeout 300]
+    python figures/extreme_cases.py [--quick] [--timeout 300] [--replot]
 """
 
 from __future__ import annotations
@@ -27,13 +28,16 @@ import re
 import signal
 import time
 
-from _common import HERE, parser, write_csv
+from _common import finish, parser, pyplot, write_csv
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 TOL, CHECK_TOLS = 1e-9, (1e-11, 1e-10)
 LAMS = (1e-3, 0.1, 1.0, 10.0, 1e2, 1e3, 1e4, 1e6)
 HS = (1e-4, 1e-3, 1e-2, 0.1, 0.2)
 DEPTHS = tuple(round(0.05 + 0.1 * k, 2) for k in range(10))
+#: the incompressible neo-Hookean kappa_s of the same cap (material="nh", tol 1e-9), the
+#: relaxed model's limit as lam -> infinity (README)
+NH_LIMIT = 3.5093951206
 HEADER = ["group", "model", "theta", "h", "lam", "T", "status", "kappa_s", "w_s",
           "error_estimate", "check_difference", "seconds", "nodes", "evaluations", "reason"]
 
@@ -126,12 +130,65 @@ def markdown(rows) -> str:
     return "\n".join(lines)
 
 
+def plot(rows, out):
+    """Three panels (material, thickness, depth): kappa_s with its status; the material
+    panel with the incompressible neo-Hookean limit of the relaxed model."""
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.9))
+    spec = [("material", "lam", "lam = lambda*/mu*  (Theta = pi/6, h0/R0 = 0.01)", True),
+            ("thickness", "h", "h0/R0  (Theta = pi/6, lam = 1)", True),
+            ("depth", "T", "T = Theta sqrt(R0/h0)  (h0/R0 = 0.01, lam = 1)", False)]
+    colors = {"relaxed": "C0", "plane_strain": "C1"}
+    for ax, (group, x, label, logx) in zip(axes, spec):
+        for model, color in colors.items():
+            sel = [r for r in rows if r["group"] == group and r["model"] == model]
+            if not sel:
+                continue
+            ok = [r for r in sel if r["status"] in ("honest", "unchecked")]
+            ax.plot([r[x] for r in ok], [r["kappa_s"] for r in ok], "o-", color=color,
+                    label=model.replace("_", " "))
+            none = [r for r in sel if r["status"] == "no snap"]
+            bad = [r for r in sel if r["status"] in ("failed", "timeout", "WRONG")]
+            if none:
+                ax.plot([r[x] for r in none], [0.0] * len(none), "x", color=color, ms=9,
+                        label=f"{model.replace('_', ' ')}: no snap")
+            if bad:
+                ax.plot([r[x] for r in bad], [0.0] * len(bad), "s", color=color, mfc="none",
+                        ms=9, label=f"{model.replace('_', ' ')}: clear failure")
+        if group == "material":
+            ax.axhline(NH_LIMIT, color="k", lw=0.8, ls=":", label="neo-Hookean (lam -> inf)")
+        if logx:
+            ax.set_xscale("log")
+        ax.set_xlabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("kappa_s R0 (0: no snap / failure)")
+    finish(fig, out, "extreme_cases")
+
+
+def _read(path):
+    import csv
+
+    rows = []
+    for r in csv.DictReader(open(path)):
+        for k in ("theta", "h", "lam", "T", "kappa_s", "w_s", "error_estimate",
+                  "check_difference", "seconds"):
+            r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan
+        rows.append(r)
+    return rows
+
+
 def main():
     from tqdm import tqdm
 
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--timeout", type=float, default=300.0, help="seconds per case")
+    p.add_argument("--replot", action="store_true",
+                   help="draw the figure from extreme_cases.csv without computing")
     args = p.parse_args()
+    if args.replot:
+        plot(_read(args.out / "extreme_cases.csv"), args.out)
+        return
     rows = []
     for c in tqdm(cases(args.quick), desc="extreme caps", unit="case"):
         rows.append(run_case(*c, args.timeout))
@@ -139,6 +196,7 @@ def main():
                    f"{rows[-1]['status']} kappa_s={rows[-1]['kappa_s']:.10g} "
                    f"({rows[-1]['seconds']:.1f} s) {rows[-1]['reason']}")
     write_csv(args.out / "extreme_cases.csv", HEADER, [[r[k] for k in HEADER] for r in rows])
+    plot(rows, args.out)
     print(markdown(rows))
     counts = {s: sum(r["status"] == s for r in rows) for s in
               ("honest", "no snap", "failed", "timeout", "unchecked", "WRONG")}
