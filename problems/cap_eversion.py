@@ -133,6 +133,11 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
                method=method, tol=tol, options=options, energies=False)
     T = theta / math.sqrt(h)
+    if not b.folds and b.stop:
+        # the branch ended before full eversion for a reason of its own: "no snap" would be
+        # a claim the computation did not make
+        raise shellbvp.ConvergenceError(f"kappa_s: the branch ended before a fold or full "
+                                        f"eversion: {b.stop}")
     if not b.folds:
         return SnapResult(False, math.nan, math.nan, math.nan, theta, h, lam, model, material,
                           T, dict(b.stats))

@@ -166,6 +166,12 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
         if on_stall == "raise" or exc.partial is None:
             raise
         (pts, brackets), stop = exc.partial, stall_reason(system, exc.partial[0], str(exc))
+    if not stop and len(pts) >= options.max_steps and (n_folds is None
+                                                        or len(brackets) < n_folds):
+        # the branch did not reach any of its stops: say so rather than end in silence
+        stop = (f"options.max_steps = {options.max_steps} points reached at "
+                f"{scene.parameter} = {pts[-1].p:.6g}, w = {pts[-1].monitor * H:.6g} "
+                f"before any stop; raise max_steps or ds_max")
     folds = []
     for i, j in brackets:
         try:

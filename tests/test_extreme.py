@@ -64,3 +64,15 @@ def test_loose_tolerance_estimate_includes_the_fold_location():
     loose = ce.snap_curvature(THETA, 1e-3, tol=1e-4)
     fine = ce.snap_curvature(THETA, 1e-3, tol=1e-9)
     assert abs(loose.kappa_s - fine.kappa_s) <= loose.error_estimate
+
+
+def test_a_branch_cut_short_is_no_claim_of_no_snap():
+    """A branch that ends at max_steps before a fold or full eversion says so in
+    Branch.stop, and kappa_s refuses to report "no snap" from it (it used to)."""
+    from shellbvp import ContinuationOptions
+
+    short = ContinuationOptions(max_steps=10)
+    b = ce.branch(THETA, 0.01, options=short, energies=False)
+    assert not b.folds and "max_steps = 10" in b.stop
+    with pytest.raises(ConvergenceError, match="ended before a fold or full eversion"):
+        ce.snap_curvature(THETA, 0.01, options=short)
