@@ -104,6 +104,12 @@ class SnapResult:
     gradient: dict | None = None
 
 
+def _default_spectral(method) -> bool:
+    """Whether ``method`` is the default spectral method (degree chosen per cap): the one
+    whose branches this module may follow on a coarser degree and carry along fold curves."""
+    return method in ("spectral", Chebyshev())
+
+
 def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                    method="spectral", tol=1e-9,
                    options: ContinuationOptions | None = None,
@@ -118,10 +124,10 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     unless ``options`` are given. ``gradient=True`` adds the exact derivatives of kappa_s in
     Theta, h and the material parameter (``SnapResult.gradient``; spectral method only), by
     implicit differentiation of the fold: for optimisation and inverse design."""
-    if gradient and method not in ("spectral", Chebyshev()):
+    if gradient and not _default_spectral(method):
         raise ValueError(f"gradient=True needs method='spectral', got method={method!r}")
     options = ContinuationOptions.to_first_fold() if options is None else options
-    if method in ("spectral", Chebyshev()):
+    if _default_spectral(method):
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
         # that tol needs: follow it on a coarser grid
         method = Chebyshev(nodes=shellbvp.bracketing_nodes(scene(theta, h, lam, model=model,
@@ -172,7 +178,7 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
         theta = T * math.sqrt(h)
         r = None
-        if folds and method in ("spectral", Chebyshev()):
+        if folds and _default_spectral(method):
             r = _along_fold_curve(T, folds, h, lam, model, material, nu, tol)
         if r is None:
             r = snap_curvature(theta, h, lam, model=model, material=material, nu=nu,

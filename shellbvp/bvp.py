@@ -124,22 +124,20 @@ def _chunk(n: int) -> int:
 @lru_cache(maxsize=None)
 def _package_source() -> str:
     """A hash of the package's source (every .py file): part of every disk key of code."""
-    import hashlib
     from pathlib import Path
 
-    h = hashlib.sha256()
-    for f in sorted(Path(__file__).parent.rglob("*.py")):
-        h.update(f.read_bytes())
-    return h.hexdigest()
+    from .cache import files_digest
+
+    return files_digest(sorted(Path(__file__).parent.rglob("*.py")))
 
 
 def _disk_key(fields, *parts) -> str | None:
     """A disk key for compiled kernels of ``fields`` and ``parts``, or None when the fields
     are not a module-level function of this package (a user's function, a closure: their
     code is not covered by the package's source hash, so their programs stay in memory)."""
-    import hashlib
     import sys
-    from pathlib import Path
+
+    from .cache import files_digest
 
     module = getattr(fields, "__module__", "") or ""
     qualname = getattr(fields, "__qualname__", "") or ""
@@ -147,7 +145,7 @@ def _disk_key(fields, *parts) -> str | None:
             getattr(sys.modules.get(module), qualname, None) is not fields:
         return None
     # the scenes (shellbvp.problems) live outside the package folder: hash their module too
-    source = hashlib.sha256(Path(sys.modules[module].__file__).read_bytes()).hexdigest()
+    source = files_digest([sys.modules[module].__file__])
     return repr((_package_source(), module, qualname, source, parts))
 
 

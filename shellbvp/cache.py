@@ -17,7 +17,7 @@ import tempfile
 from pathlib import Path
 from typing import Any, Callable
 
-__all__ = ["key", "memo", "cache_dir", "atomic_write_text", "atomic_write_bytes"]
+__all__ = ["key", "memo", "files_digest", "cache_dir", "atomic_write_text", "atomic_write_bytes"]
 
 
 def cache_dir() -> Path | None:
@@ -35,6 +35,15 @@ def key(*parts: Any) -> str:
         h.update(repr(p).encode())
         h.update(b"\0")
     return h.hexdigest()[:32]
+
+
+def files_digest(paths) -> str:
+    """SHA-256 of the bytes of ``paths`` (in the given order): the part of a disk key that
+    changes whenever the code a cached value came from changes."""
+    h = hashlib.sha256()
+    for path in paths:
+        h.update(Path(path).read_bytes())
+    return h.hexdigest()
 
 
 def memo(k: str, compute: Callable[[], Any]) -> Any:

@@ -46,13 +46,12 @@ ROUND_OFF = 1e-16
 def _source_key(*parts) -> str:
     """Disk key of generated code: the derivation's source files and ``parts`` (and, by
     :func:`shellbvp.cache.key`, the Python and sympy versions)."""
-    import hashlib
     from pathlib import Path
 
-    h = hashlib.sha256()
-    for name in ("reduction.py", "euler_lagrange.py", "series.py", "compiled.py"):
-        h.update((Path(__file__).parent / name).read_bytes())
-    return cache.key("generated-jax", h.hexdigest(), *parts)
+    here = Path(__file__).parent
+    return cache.key("generated-jax", cache.files_digest(
+        here / name for name in ("reduction.py", "euler_lagrange.py", "series.py",
+                                 "compiled.py")), *parts)
 
 
 def _generated(key: str, build):
@@ -129,8 +128,7 @@ def point_functions(model, material, rhob1, metric):
     """Single-node JAX functions (y (6,), s, F (4,), lam, h) -> ...
 
     Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
-    ``X`` (the principal state at (y, q)), ``rhs`` -> (f, converged) and
-    ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand
+    ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand
     side, its Jacobian and its derivative along a change dF of the fields (df/dp when
     dF = dF/dp), all by implicit differentiation of G = 0; ``q_init`` warm-starts the inner
     Newton. ``root`` is the inner Newton itself; ``q_linear`` and ``f_linear`` give the root
@@ -220,11 +218,6 @@ def point_functions(model, material, rhob1, metric):
         q, ok, _ = root(y, s, F, lam, h, q_init)
         return q, X_of(y, q, s, F, h), ok
 
-    def rhs(y, s, F, lam, h):
-        q, _, ok = algebraic(y, s, F, lam, h)
-        X, g, H = jet(y, q, s, F, lam, h)
-        return _arr(el["f"](*args(y, q, s, F, g, H, h))), ok
-
     def f_and_G(y, q, s, F, lam, h):
         # f and G need only the W gradient (no Hessian): used for derivatives in the fields.
         X = X_of(y, q, s, F, h)
@@ -276,5 +269,5 @@ def point_functions(model, material, rhob1, metric):
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
-    return {"root": root, "algebraic": algebraic, "X": X_of, "rhs": rhs, "rhs_jac": rhs_jac,
+    return {"root": root, "algebraic": algebraic, "X": X_of, "rhs_jac": rhs_jac,
             "hessian": hessian, "q_linear": q_linear, "f_linear": f_linear}

@@ -158,11 +158,11 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
             progress=progress,
             admissible=(lambda pt: elliptic_point(system, pt)) if check_ellipticity else None)
     except ConvergenceError as exc:
-        if "round-off" in str(exc) and scene.material == "cg" and scene.lam > 1e3:
+        if exc.round_off and scene.material == "cg" and scene.lam > 1e3:
             raise ConvergenceError(f"lam = {scene.lam:g} is beyond what double precision "
                                    f"resolves here; for a nearly incompressible shell use "
                                    f"material='nh' (the limit lam -> infinity). {exc}",
-                                   partial=exc.partial) from None
+                                   partial=exc.partial, round_off=True) from None
         if on_stall == "raise" or exc.partial is None:
             raise
         (pts, brackets), stop = exc.partial, stall_reason(system, exc.partial[0], str(exc))

@@ -16,8 +16,11 @@ class ConvergenceError(RuntimeError):
 
     ``partial``: what was converged before the failure, when there is such a thing (a
     continuation that stalls carries its converged points and fold brackets), else None.
+    ``round_off``: the cause is round-off in the discrete equations, not a bad start or
+    step (a stiffer material or thinner shell than double precision resolves).
     """
 
-    def __init__(self, message, partial=None):
+    def __init__(self, message, partial=None, round_off=False):
         super().__init__(message)
         self.partial = partial
+        self.round_off = round_off

@@ -17,7 +17,6 @@ def test_relaxed_kappa_s_tends_to_the_incompressible_limit():
     nh = ce.snap_curvature(THETA, 0.01, material="nh").kappa_s
     gaps = [ce.snap_curvature(THETA, 0.01, lam).kappa_s - nh for lam in (1e3, 1e4)]
     assert 0 < gaps[1] < gaps[0] / 5
-    assert gaps[1] < 2e-4
 
 
 def test_round_off_beyond_double_precision_is_a_clear_error():

@@ -74,7 +74,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
     if not res.ok:
         why = f"{res.diagnosis}; " if res.diagnosis else ""
         raise ConvergenceError(f"continuation: no solution at the start {p0:g}: {why}Newton "
-                               f"history {res.history}")
+                               f"history {res.history}", round_off=bool(res.diagnosis))
     v, _, dp = tangent(res)
     pts = [_point(res, v, dp, math.copysign(1.0, direction * dp), 0.0, n)]
     if progress:

@@ -240,7 +240,7 @@ def ladder(system, U, p, monitor, curvature=None, *,
                 raise ConvergenceError(
                     f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
                     f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
-                    f"or stiff shell); ask for a tolerance >= {noise:.0e}")
+                    f"or stiff shell); ask for a tolerance >= {noise:.0e}", round_off=True)
             # the rungs share the monitor the fold was located at (the finer one starts there
             # and stops when its predicted move is below the monitor tolerance), so the
             # change between them does not see that location error either: add it, twice
