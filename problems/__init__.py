@@ -1,7 +1,10 @@
 """The paper's scenes, each a methods section in code (installed as ``shellbvp.problems``).
 
 * :mod:`.cap_eversion`: everting spherical caps that snap (Section 5.2);
-* :mod:`.closed_sphere`: homogeneous radius change of a closed sphere (Section 5.3).
+* :mod:`.closed_sphere`: homogeneous radius change of a closed sphere (Section 5.3);
+* :mod:`.budding`: budding of a clamped cap under a localized stimulus (Section 5.4);
+* :mod:`.pressure_cap`: clamped caps under external pressure, the classical snap-through
+  benchmark (Budiansky 1959; Teng & Rotter 1989), beyond the paper.
 
 A scene is data (geometry, stimulus, material, boundary conditions) handed to the public
 ``shellbvp`` API; it adds no solver of its own.

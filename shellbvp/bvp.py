@@ -131,37 +131,48 @@ def _package_source() -> str:
     return files_digest(sorted(Path(__file__).parent.rglob("*.py")))
 
 
-def _disk_key(fields, *parts) -> str | None:
-    """A disk key for compiled kernels of ``fields`` and ``parts``, or None when the fields
-    are not a module-level function of this package (a user's function, a closure: their
-    code is not covered by the package's source hash, so their programs stay in memory)."""
+def _disk_key(functions, *parts) -> str | None:
+    """A disk key for compiled kernels of the scene's ``functions`` (fields, pressure) and
+    ``parts``, or None when one of them is not a module-level function of this package (a
+    user's function, a closure: their code is not covered by the package's source hash, so
+    their programs stay in memory)."""
     import sys
 
     from .cache import files_digest
 
-    module = getattr(fields, "__module__", "") or ""
-    qualname = getattr(fields, "__qualname__", "") or ""
-    if not module.startswith("shellbvp") or "<" in qualname or \
-            getattr(sys.modules.get(module), qualname, None) is not fields:
-        return None
-    # the scenes (shellbvp.problems) live outside the package folder: hash their module too
-    source = files_digest([sys.modules[module].__file__])
-    return repr((_package_source(), module, qualname, source, parts))
+    names = []
+    for fn in functions:
+        if fn is None:
+            names.append(None)
+            continue
+        module = getattr(fn, "__module__", "") or ""
+        qualname = getattr(fn, "__qualname__", "") or ""
+        if not module.startswith("shellbvp") or "<" in qualname or \
+                getattr(sys.modules.get(module), qualname, None) is not fn:
+            return None
+        # the scenes (shellbvp.problems) live outside the package folder: hash their module
+        names.append((module, qualname, files_digest([sys.modules[module].__file__])))
+    return repr((_package_source(), tuple(names), parts))
 
 
 @lru_cache(maxsize=32)
-def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False):
+def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False,
+             pressure=None):
     """The scene's compiled functions (see :class:`ShellBVP`)."""
     pf = point_functions(model, material, rhob1, metric)
-    base = _disk_key(fields, model, material, rhob1, metric, P, apex, edge, log_apex)
+    base = _disk_key((fields, pressure), model, material, rhob1, metric, P, apex, edge,
+                     log_apex)
 
     def packed(fn, name):
         return Packed(fn, None if base is None else f"{name}:{base}")
 
     def field_piece(i):
+        # the stimulus fields (g1, g2, kb1, kb2) and the pressure: the five "fields" of the
+        # compiled equations (the pressure is uniform; a derivative in p reaches it too)
         def F(s, p):
+            load = 0.0 if pressure is None else pressure(p)
             return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                              for v in fields(i, s, p)])
+                              for v in (*fields(i, s, p), load)])
         return F
 
     branches = [field_piece(i) for i in range(P)]
@@ -331,8 +342,9 @@ def _anisotropic_apex(fields, eps) -> bool:
 
 
 @lru_cache(maxsize=64)
-def _untraceable(fields, P) -> str:
-    """Why JAX cannot trace the scene's fields (every method traces them), or "" if it can;
+def _untraceable(fields, P, pressure=None) -> str:
+    """Why JAX cannot trace the scene's fields or pressure (every method traces them), or ""
+    if it can;
     one trace per field function, not one per solve."""
     def trace(i):
         s = jnp.float64(0.5)
@@ -349,6 +361,15 @@ def _untraceable(fields, P) -> str:
         if out.shape != (4,):
             return (f"scene fields must return four values (g1, g2, kb1, kb2), got shape "
                     f"{out.shape}")
+    if pressure is not None:
+        try:
+            out = jax.eval_shape(lambda: jnp.asarray(pressure(jnp.float64(0.0)), jnp.float64))
+        except Exception as exc:
+            return (f"scene pressure must be written with array arithmetic or jax.numpy (it "
+                    f"is traced by JAX); pressure(p) failed: {type(exc).__name__}: "
+                    f"{str(exc).splitlines()[0]}")
+        if out.shape != ():
+            return f"scene pressure(p) must return a scalar, got shape {out.shape}"
     return ""
 
 
@@ -382,7 +403,7 @@ class ShellBVP:
         self.b = np.array(scene.breaks + (scene.theta,))
         self.P = scene.pieces
         self.rise = 1.0 - math.cos(scene.theta)
-        problem = _untraceable(scene.fields, self.P)
+        problem = _untraceable(scene.fields, self.P, scene.pressure)
         if problem:
             raise ValueError(problem)
         self._layouts = {}
@@ -390,7 +411,7 @@ class ShellBVP:
         self.anisotropic_apex = _anisotropic_apex(scene.fields, eps)
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge,
-                           self.anisotropic_apex)
+                           self.anisotropic_apex, scene.pressure)
         self.evaluations = 0
 
     def round_off(self, p: float) -> float:
@@ -446,7 +467,7 @@ class ShellBVP:
 
     def _check(self, F, ok, s, p):
         P, m = s.shape
-        F = F.reshape(P, m, 4)
+        F = F.reshape(P, m, 5)
         for i in range(P):
             self.scene.check_fields(F[i].T, i, p)
         if not np.all(ok):
@@ -535,14 +556,15 @@ class ShellBVP:
         return X, F
 
     def state_and_hessian(self, s, Y, p):
-        """:meth:`state` and the gradient (P, 4, m) and Hessian (P, 4, 4, m) of W in X at
+        """:meth:`state` (fields (g1, g2, kb1, kb2)) and the gradient (P, 4, m) and Hessian (P, 4, 4, m) of W in X at
         every node: the ellipticity of the reduced energy is read from them
         (:func:`shellbvp.ellipticity.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
         X, F, ok, gw, Hw = self._scan(s, Y, p)
         self._check(F, ok, s, p)
-        return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F.reshape(P, m, 4), -1, 1),
+        F = F.reshape(P, m, 5)[:, :, :4]          # the stimulus fields (the pressure is p's)
+        return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F, -1, 1),
                 np.moveaxis(gw.reshape(P, m, 4), -1, 1), np.moveaxis(Hw.reshape(P, m, 4, 4), 1, -1))
 
     def _scan(self, s, Y, p):
@@ -630,10 +652,11 @@ class ShellBVP:
         return ev
 
     def energies(self, dense_t, p):
-        """(E_s, E_b) = 2 pi int (w_s, h^2/12 w_b) g1 g2 sin s ds, per mu* h0 R0^2, by
-        Gauss-Legendre quadrature per piece plus the polar cap [0, eps] (W is constant there
-        to O(eps^2)). ``dense_t(t)`` is the stacked (6 P, n) solution in the piece
-        coordinate."""
+        """(E_s, E_b, E_p) = 2 pi int (w_s, h^2/12 w_b) g1 g2 sin s ds and the pressure's
+        potential E_p = P V = pi P int r^2 g1 lam1 sin(theta) ds (0 without a load), per
+        mu* h0 R0^2, by Gauss-Legendre quadrature per piece plus the polar cap [0, eps] (W is
+        constant there to O(eps^2); r^2 makes its E_p O(eps^4)). ``dense_t(t)`` is the
+        stacked (6 P, n) solution in the piece coordinate."""
         from .energy import energy_terms
 
         sc = self.scene
@@ -653,4 +676,9 @@ class ShellBVP:
         cap = g1[0, 0] * g2[0, 0] * (1 - math.cos(self.eps))
         Es += ws[0, 0] * cap
         Eb += sc.h**2 / 12 * wb[0, 0] * cap
-        return 2 * math.pi * Es, 2 * math.pi * Eb
+        Ep = 0.0
+        if sc.pressure is not None:
+            r, th = Y[:, 0], Y[:, 2]
+            Ep = math.pi * float(sc.pressure(p)) * float(np.sum(
+                r**2 * g1 * X[:, 0] * np.sin(th) * self.lengths[:, None] * wt[None, :]))
+        return 2 * math.pi * Es, 2 * math.pi * Eb, Ep

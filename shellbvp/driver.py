@@ -190,10 +190,10 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     if energies:
         E = np.array([bvp.energies(system.dense(pt.U, pt.p), pt.p) for pt in pts])
     else:
-        E = np.full((len(pts), 2), math.nan)
+        E = np.full((len(pts), 3), math.nan)
     return Branch(scene=scene, p=np.array([pt.p for pt in pts]),
                   w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
-                  stretching_energy=E[:, 0], bending_energy=E[:, 1],
+                  stretching_energy=E[:, 0], bending_energy=E[:, 1], load_potential=E[:, 2],
                   arclength=np.array([pt.arclength for pt in pts]), folds=folds,
                   stats=dict(system.describe(), points=len(pts), evaluations=bvp.evaluations,
                              wall_time=time.perf_counter() - t0),

@@ -7,8 +7,14 @@ abar = diag(g1^2, g2^2 sin^2 s)):
     lam2 = r / (g2 sin s),     k2 = -sin(theta) / r,
 
 so that the energy per 2 pi mu* h0 is the integral of
-L = W(lam1, lam2, k1, k2) g1 g2 sin s + F_r (r' - g1 lam1 cos th) + F_z (z' + g1 lam1 sin th),
-with k1 = -theta' / (g1 lam1). The Euler-Lagrange equations give the first-order system for
+L = W(lam1, lam2, k1, k2) g1 g2 sin s + (p/2) r^2 g1 lam1 sin th
+    + F_r (r' - g1 lam1 cos th) + F_z (z' + g1 lam1 sin th),
+with k1 = -theta' / (g1 lam1). The pressure term is p V / (2 pi mu* h0) for a uniform
+external pressure p (in mu* h0 / R0, positive toward the centre of curvature) on the deformed
+surface, V = -pi int r^2 z' ds the volume enclosed between the surface and the plane of its
+edge (closed through the axis and that plane, where dz = 0 or r = 0): a follower load with
+a potential, written with z' = -g1 lam1 sin th so that it enters the same multipliers' equations.
+The Euler-Lagrange equations give the first-order system for
 y = (r, z, theta, m, f_r, f_z), where m = 12 M / h^2, f = 12 F / h^2 (M = dL/dtheta' the
 meridional moment; the scaling makes bending and membrane unknowns the same size), and two
 algebraic equations G(q; y, s) = 0 for q = (lam1, k1):
@@ -40,10 +46,11 @@ k1 = sp.Symbol("k1", real=True)
 thp = sp.Symbol("thetap", real=True)
 g1, g2 = sp.symbols("g1 g2", positive=True)
 kb1, kb2 = sp.symbols("kb1 kb2", real=True)
+pr = sp.Symbol("pressure", real=True)
 
 Y = (r, z, th, m, fr, fz)
 Q = (l1, k1)
-FIELDS = (g1, g2, kb1, kb2)
+FIELDS = (g1, g2, kb1, kb2, pr)
 WGRAD = sp.symbols("W_L1 W_L2 W_K1 W_K2", real=True)
 _H = {}
 for i in range(4):
@@ -89,6 +96,7 @@ def _derive(metric: bool) -> ELSystem:
     jac = G1_ * G2_ * sp.sin(s)
     Fr, Fz = h**2 / 12 * fr, h**2 / 12 * fz
     cons = -Fr * G1_ * l1 * sp.cos(th) + Fz * G1_ * l1 * sp.sin(th)  # the r', z' terms do not vary
+    cons += pr / 2 * r**2 * G1_ * l1 * sp.sin(th)                    # the pressure potential p V
 
     def dL(v):  # partial derivative of the Lagrangian: W part by the chain rule, then constraints
         return sum(WGRAD[a] * sp.diff(Xp[a], v) for a in range(4)) * jac + sp.diff(cons, v)

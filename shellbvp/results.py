@@ -37,7 +37,10 @@ class Equilibrium:
             = (lam_a^2 - 1) / 2, relative to the target metric.
         M, F_r, F_z: meridional moment and force multipliers (see the module docstring).
         energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) = 2 pi int W dA_target,
-            split into the w_s and h^2/12 w_b parts.
+            split into the w_s and h^2/12 w_b parts, plus ``load_potential``.
+        load_potential: the pressure's potential P V (V the volume between the surface and
+            the plane of its edge; 0 without a load), included in ``energy``, which is then
+            the total potential energy.
         w: the BVP's observable in R0 (free edge: vertical displacement of the edge relative
             to the apex; clamped edge: of the apex relative to the edge, positive along +z).
         legendre: per node, the Legendre condition of the axisymmetric energy: smallest
@@ -87,6 +90,7 @@ class Equilibrium:
     hessian_block: np.ndarray = field(repr=False, default=None)
     pole_hessian_min: float = math.nan
     thin_shell: tuple = (math.nan, math.nan)
+    load_potential: float = 0.0
 
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
@@ -121,17 +125,18 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     dense_t = system.dense(U, p)
     z_apex = y[1, 0] + y[0, 0] * y[2, 0] / 2     # z(0) from the regular series at eps
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
-    Es, Eb = bvp.energies(dense_t, p)
+    Es, Eb, Ep = bvp.energies(dense_t, p)
     scale = sc.h**2 / 12
     return Equilibrium(
         scene=sc, p=float(p), s=s, r=y[0], z=y[1] - z_apex, theta=y[2], lam1=X[0], lam2=X[1],
         k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2, eps22=(X[1] ** 2 - 1) / 2,
-        M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb,
+        M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb + Ep,
         stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.rise),
         error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
         message="converged", z_apex=float(z_apex), profile=bvp.profile(dense_t),
         legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
-        thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())))
+        thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
+        load_potential=float(Ep))
 
 
 def failed_equilibrium(scene, p, message, stats) -> Equilibrium:
@@ -189,7 +194,8 @@ class Branch:
 
     Attributes:
         p: parameter values; w: the observable (R0; see :class:`Equilibrium`).
-        energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) (nan when not computed).
+        energy, stretching_energy, bending_energy, load_potential: E / (mu* h0 R0^2) (nan
+            when not computed; ``energy`` is their total, see :class:`Equilibrium`).
         arclength: in the (w / H, p) plane, H the rise 1 - cos theta.
         folds: the folds passed, refined (:class:`Fold`).
         stats: method, resolution, points, evaluations, wall time.
@@ -210,6 +216,7 @@ class Branch:
     points: tuple = field(repr=False, compare=False, default=())
     system: Any = field(repr=False, compare=False, default=None)
     stop: str = ""
+    load_potential: np.ndarray = field(repr=False, default=None)
 
     def equilibrium(self, i: int) -> Equilibrium:
         """The equilibrium at point i of the branch."""

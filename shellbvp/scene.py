@@ -6,7 +6,7 @@ on s that may be piecewise (``breaks`` are the interior interfaces, treated exac
 multi-point problem) and may depend on one named scalar parameter (``parameter``, e.g.
 ``"kappa"``). ``fields(piece, s, p)`` returns (g1, g2, kb1, kb2) on piece ``piece``:
 target stretch factors abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22 and target curvatures
-kb_a = bbar_aa / abar_aa, in 1/R0. Fields must use array arithmetic only (they are traced by
+kb_a = bbar_aa / abar_aa, in 1/R0. A uniform external pressure ``pressure(p)`` may load it. Fields must use array arithmetic only (they are traced by
 JAX in the shooting back-end). A scene with ``metric=False`` promises g1 = g2 = 1 and gets
 Euler-Lagrange equations without g terms.
 """
@@ -58,6 +58,12 @@ class Scene:
         apex: ``"held"`` (z(0) = 0) or ``"free"`` (no point force at the apex, F_z = 0).
         edge: ``"free"`` (M = F_r = F_z = 0) or ``"clamped"`` (r, z, theta at reference values).
         fields: ``fields(piece, s, p) -> (g1, g2, kb1, kb2)``.
+        pressure: ``pressure(p) -> P``, a uniform external pressure on the deformed surface
+            in mu* h0 / R0 (a follower load; positive toward the centre of curvature of the
+            undeformed cap, i.e. pushing the apex down), or None (no load). Its potential
+            P V, with V the volume between the surface and the plane of its edge, enters
+            the energy (:mod:`shellbvp.euler_lagrange`); meaningful with a clamped edge,
+            whose plane is fixed. Array arithmetic only, like ``fields``.
         breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
         metric: whether the fields change the metric (g != 1).
         parameter: name of the scalar stimulus parameter p.
@@ -77,6 +83,7 @@ class Scene:
     metric: bool = False
     parameter: str = "kappa"
     nu: float = 0.5
+    pressure: Callable | None = None
 
     @property
     def material_parameter(self) -> float:
@@ -102,6 +109,9 @@ class Scene:
         checks.check_positive("rhob1", self.rhob1)
         checks.check_choice("apex", self.apex, APEX)
         checks.check_choice("edge", self.edge, EDGE)
+        if self.pressure is not None and not callable(self.pressure):
+            raise ValueError(f"pressure must be a callable p -> pressure or None, got "
+                             f"{type(self.pressure).__name__}")
         b = np.asarray(self.breaks, dtype=float)
         if b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0 or b[-1] >= self.theta
                        or not np.all(np.isfinite(b))):
@@ -113,11 +123,12 @@ class Scene:
         return len(self.breaks) + 1
 
     def check_fields(self, out, piece, p):
-        """Raise a named ValueError unless the fields (g1, g2, kb1, kb2) are admissible."""
+        """Raise a named ValueError unless the fields (g1, g2, kb1, kb2[, pressure]) are
+        admissible."""
         F = np.asarray(out, dtype=float)
         if np.isfinite(F).all() and (F[:2] > 0).all() and (self.metric or (F[:2] == 1).all()):
             return out      # the common case, checked at once
-        names = ("g1", "g2", "kb1", "kb2")
+        names = ("g1", "g2", "kb1", "kb2", "pressure")
         for n, v in zip(names, F):
             if not np.all(np.isfinite(v)):
                 raise ValueError(f"stimulus field {n} must be finite (piece {piece}, "
