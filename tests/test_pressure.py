@@ -140,6 +140,32 @@ def test_fold_passes_a_reversal_of_the_apex_deflection():
     assert r.snaps and r.error_estimate <= 1e-8
 
 
+def test_fold_where_the_apex_turns_with_it():
+    """lambda_B = 8.25 at R/t = 1000: the apex deflection turns back at the pressure maximum
+    itself, so it is no coordinate there and the fold is located in a coordinate of the end
+    states. Independent check: the same discrete system followed densely (steps <= 3, the
+    tangent turning <= 0.05 rad per step) peaks just below the fold, and the parabola in
+    arclength through its three highest points peaks at the fold to 1e-5."""
+    from shellbvp.continuation import ContinuationOptions, pseudo_arclength
+
+    r = p_cr(8.25, 1000.0, tol=1e-7)
+    f = r.fold
+    assert f.stats.get("coordinate") == "end states"
+    assert f.monitor == pytest.approx(r.w_apex / (1 - math.cos(r.theta)), rel=1e-12)
+    system = f.system
+    pts, _ = pseudo_arclength(system, system.from_profile(system.bvp.reference), 0.0,
+                              options=ContinuationOptions(ds=1.0, ds_max=3.0, turn=0.05,
+                                                          max_steps=1000), n_folds=1)
+    p = np.array([q.p for q in pts])
+    U = np.array([q.U for q in pts])
+    arc = np.concatenate([[0.0], np.cumsum(np.sqrt(
+        np.sum(np.diff(U, axis=0) ** 2, axis=1) / U.shape[1] + np.diff(p) ** 2))])
+    k = int(np.argmax(p))
+    assert 0 < k < p.size - 1 and f.p - 1e-4 * f.p < p[k] <= f.p
+    a2, a1, a0 = np.polyfit(arc[k - 1:k + 2] - arc[k], p[k - 1:k + 2], 2)
+    assert abs((a0 - a1**2 / (4 * a2)) - f.p) <= 1e-5 * f.p
+
+
 def test_published_snap_pressures():
     """At R/t = 100 (the thickness of Teng & Rotter's analysis) each p_cr/p0 lies within the
     range of the three published values (+- their rounding): they differ among themselves by

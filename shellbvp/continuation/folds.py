@@ -166,28 +166,98 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
     """The fold between branch points a and b, to ``options.fold_tol``.
 
     Seeded by :func:`bracket_estimate`, then refined on the ladder (:func:`ladder`); where
-    that fails, seeded by :func:`locate_fold` on the branch's system instead. The branch
-    itself may be followed on a coarser system than the ladder's: it only brackets the fold.
+    that fails, seeded by :func:`locate_fold` on the branch's system instead; where the
+    monitor is not a coordinate of the branch at the fold (it turns there as well, e.g. the
+    apex deflection of a pressurised cap), located and refined in a coordinate of the end
+    states instead (:func:`_in_end_state_coordinate`). The branch itself may be followed on a
+    coarser system than the ladder's: it only brackets the fold.
     """
     t0 = time.perf_counter()
-    m0, c0 = bracket_estimate(a, b)
-    q = min((a, b), key=lambda q: abs(q.monitor - m0))
-    dm = m0 - q.monitor
-    U0 = q.U + dm * q.dU / q.tangent[0]
-    p0 = q.p + dm * q.tangent[1] / q.tangent[0]
-    try:
+
+    def seeded():
+        m0, c0 = bracket_estimate(a, b)
+        q = min((a, b), key=lambda q: abs(q.monitor - m0))
+        dm = m0 - q.monitor
+        U0 = q.U + dm * q.dU / q.tangent[0]
+        p0 = q.p + dm * q.tangent[1] / q.tangent[0]
         return ladder(system, U0, p0, m0,
                       c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
                       options=options, index=index, t0=t0)
-    except ConvergenceError as exc:
+
+    def bracketed():
         # the cubic seed was too far for Newton on dp/dm (a coarse branch of a deep cap):
         # locate the fold on the branch's own system by bracketing (Brent), then the ladder
-        first_error = exc
-    try:
         f = locate_fold(system, a, b, monitor_tol=max(FOLD_MONITOR_TOL, options.fold_tol))
-    except ConvergenceError:
-        raise first_error from None
-    return ladder(system, f.U, f.p, f.monitor, options=options, index=index, t0=t0)
+        return ladder(system, f.U, f.p, f.monitor, options=options, index=index, t0=t0)
+
+    def other_coordinate():
+        return _in_end_state_coordinate(system, a, b, options=options, index=index, t0=t0)
+
+    errors = []
+    for attempt in (seeded, bracketed, other_coordinate):
+        try:
+            return attempt()
+        except ConvergenceError as exc:
+            errors.append(exc)
+    raise errors[0]
+
+
+class _EndStateCoordinate:
+    """A view of a BVP whose monitor is the linear coordinate m = c_a . y(a) + c_b . y(b) of
+    its end states (everything else is the BVP's own)."""
+
+    def __init__(self, bvp, ca, cb):
+        self._bvp, self.ca, self.cb = bvp, np.asarray(ca, float), np.asarray(cb, float)
+
+    def __getattr__(self, name):
+        return getattr(self._bvp, name)
+
+    def monitor(self, ya, yb):
+        return float(self.ca @ np.asarray(ya) + self.cb @ np.asarray(yb)), self.ca, self.cb
+
+    def collocate(self, s, Y, p, hint=None):
+        out = self._bvp.collocate(s, Y, p, hint)
+        return type(out)(out.nodal, out.boundary, self.monitor(Y[0, :, 0], Y[-1, :, -1]))
+
+
+def _in_end_state_coordinate(system, a, b, *, options, index, t0) -> Fold:
+    """The fold between a and b located and refined with the monitor replaced by the
+    direction in which the end states (y(eps), y(theta)) change from a to b, scaled so that
+    it grows by 1 from a to b: a coordinate of the branch across a short bracket wherever
+    the end states move, even where the BVP's monitor turns at the fold. The fold is
+    returned on the original BVP (its monitor that BVP's), so that everything downstream
+    (shape, w, continuation from it) reads it as any other. Needs a nodal system that can
+    be carried to another BVP (``on``, ``split``: the Chebyshev method)."""
+    from dataclasses import replace
+
+    if not (hasattr(system, "on") and hasattr(system, "split")):
+        raise ConvergenceError("fold location in an end-state coordinate needs the spectral "
+                               "method")
+
+    def ends(U):
+        Y = system.split(U)
+        return Y[0, :, 0], Y[-1, :, -1]
+
+    (ya, yb), (za, zb) = ends(a.U), ends(b.U)
+    da, db = za - ya, zb - yb
+    norm = float(da @ da + db @ db)
+    if not norm > 0:
+        raise ConvergenceError("fold location: the end states do not move across the bracket")
+    view = _EndStateCoordinate(system.bvp, da / norm, db / norm)
+    other = system.on(view)
+
+    def carried(q):
+        m, _, _ = view.monitor(*ends(q.U))
+        dm, _, _ = view.monitor(*ends(q.dU))     # linear: the derivative along the tangent
+        return replace(q, monitor=m, tangent=(dm, q.tangent[1]))
+
+    f = locate_fold(other, carried(a), carried(b),
+                    monitor_tol=max(FOLD_MONITOR_TOL, options.fold_tol))
+    fold = ladder(other, f.U, f.p, f.monitor, options=options, index=index, t0=t0)
+    home = fold.system.on(system.bvp)
+    m, _ = home.monitor(fold.U)
+    stats = dict(fold.stats, curvature=None, coordinate="end states")
+    return replace(fold, monitor=m, system=home, stats=stats)
 
 
 def ladder(system, U, p, monitor, curvature=None, *,
