@@ -195,3 +195,21 @@ def test_bad_input_is_named():
         pc.critical_pressure(50.0, R_over_t=100.0)
     with pytest.raises(ValueError, match="pressure"):
         shellbvp.Scene(theta=0.3, h=0.01, pressure=2.0)
+
+
+def test_readme_example_runs(tmp_path, monkeypatch):
+    """The README's pressure example: its p_cr/p0 within the published range at
+    lambda_B = 6 (0.972-0.995), and the branch CSV with its fold row."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S)
+                 if "critical_pressure(" in b)
+    monkeypatch.chdir(tmp_path)
+    namespace = {}
+    exec(block, namespace)
+    assert 0.972 <= namespace["r"].p_cr_over_p0 <= 0.995
+    rows = (tmp_path / "branch.csv").read_text().splitlines()
+    assert rows[0] == "p_over_p0,w_apex_over_t,w_apex_over_H,is_fold"
+    assert sum(row.endswith(",1") for row in rows[1:]) == 1
