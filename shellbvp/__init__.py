@@ -15,6 +15,8 @@ Methods (discretisations behind one protocol)
     default_nodes, bracketing_nodes
 Solving and continuation
     solve, follow, at_monitor, fold_near, fold_gradient, MonitorPoint, ContinuationOptions
+Stability
+    second_variation, SecondVariation (the discrete second variation of the energy)
 Results
     Equilibrium, Branch, Fold, ConvergenceError
 Files
@@ -43,6 +45,7 @@ _WHERE = {
     "ContinuationOptions": "continuation",
     "Equilibrium": "results", "Branch": "results", "Fold": "results",
     "ConvergenceError": "errors",
+    "second_variation": "stability", "SecondVariation": "stability",
     "atomic_write_text": "cache",
 }
 
