@@ -217,7 +217,7 @@ def membrane_state(p_over_p0, lambda_B, R_over_t=100.0, nu=0.3, *, material="koi
     edge layer: a uniform contraction r -> (1 - e) r with equal stresses N = p R / 2
     (compressive), i.e. strain e = N (1 - nu) / (E t) = (p/p0) c (1 - nu) / (2 E/mu*)
     (linear theory). Returns (e, P) with P the scene's pressure."""
-    theta, h = geometry(lambda_B, R_over_t, nu, material=material, lam=lam)
+    _, h = geometry(lambda_B, R_over_t, nu, material=material, lam=lam)
     E, nu_ = _elastic_constants(material, nu, lam)
     c = pressure_scale(h, nu, material=material, lam=lam)
     P = p_over_p0 * c

@@ -24,7 +24,7 @@ from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["point_functions", "NEWTON_TOL"]
+__all__ = ["point_functions", "energy_function", "NEWTON_TOL"]
 
 #: inner (lam1, k1) Newton: converges quadratically from the pole-like guess in 3-6 steps;
 #: 40 only bounds the work on a wild outer iterate (which then reports failure).
@@ -95,6 +95,13 @@ def _energy_jax(model, material, rhob1):
         return {"W": sp.lambdify(args, W, modules="jax", cse=True)}
 
     return _generated(_source_key("energy", model, material, float(rhob1)), build)["W"]
+
+
+def energy_function(model, material, rhob1):
+    """W(lam1, lam2, k1, k2, kb1, kb2, material parameter, h) as a JAX function (elementwise
+    on arrays), per unit target area, mu* and thickness: the reduced energy the compiled
+    equations are derived from, for computations on the energy itself (its Hessian)."""
+    return _energy_jax(model, material, float(rhob1))
 
 
 @lru_cache(maxsize=None)

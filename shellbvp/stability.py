@@ -99,7 +99,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     Raises ValueError for an equilibrium that did not converge or bad arguments.
     """
     from .bvp import ShellBVP
-    from .compiled import _energy_jax
+    from .compiled import energy_function
     from .methods.chebyshev import chebyshev_points, default_nodes, differentiation_matrix
 
     if not getattr(eq, "success", False):
@@ -119,7 +119,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     g1, g2, kb1, kb2 = (jnp.asarray(F[:, k]) for k in range(4))
     pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))
     D, Q, w = differentiation_matrix(N), _cumulative(N), _clenshaw_curtis(N)
-    W = _energy_jax(sc.model, sc.material, float(sc.rhob1))
+    W = energy_function(sc.model, sc.material, sc.rhob1)
     mat, h, eps, clamped = sc.material_parameter, sc.h, bvp.eps, sc.edge == "clamped"
     sin_s = jnp.asarray(np.sin(s))
     n = P * (N + 1)
