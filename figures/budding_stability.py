@@ -43,7 +43,11 @@ def main(argv=None):
             except ConvergenceError:
                 continue          # the very last point: see _budding.last_valid
             for N in RESOLUTIONS:
-                sv = second_variation(eq, nodes=N, count=1)
+                try:
+                    sv = second_variation(eq, nodes=N, count=1)
+                except ConvergenceError:
+                    continue      # no elliptic inner root at this degree's points
+
                 where = float(sv.s[int(np.argmax(np.abs(sv.theta_modes[0])))])
                 rows.append([ea, eb, float(b.p[i]), N, float(sv.eigenvalues[0]), where,
                              float(np.min(eq.legendre))])

@@ -24,6 +24,9 @@ bending and membrane unknowns have the same size):
   g1 lam1 = g2 lam2 at eps, which is exact only for a regular membrane state;
 * **edge**, at s = theta: m = f_r = f_z = 0 (``free``) or r, z, theta at the reference
   sphere's values (``clamped``);
+* **load**: a scene's uniform pressure (``Scene.pressure``) enters the compiled equations as a
+  fifth field beside (g1, g2, kb1, kb2), through its potential P V
+  (:mod:`shellbvp.euler_lagrange`);
 * **observable** (the branch monitor), in units of the rise H = 1 - cos theta: for a free
   edge the vertical displacement of the edge relative to the apex, for a clamped edge that
   of the apex relative to the edge (positive along +z, the cap's axis at the apex).
@@ -344,8 +347,7 @@ def _anisotropic_apex(fields, eps) -> bool:
 @lru_cache(maxsize=64)
 def _untraceable(fields, P, pressure=None) -> str:
     """Why JAX cannot trace the scene's fields or pressure (every method traces them), or ""
-    if it can;
-    one trace per field function, not one per solve."""
+    if it can; one trace per field function, not one per solve."""
     def trace(i):
         s = jnp.float64(0.5)
         return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
@@ -556,9 +558,9 @@ class ShellBVP:
         return X, F
 
     def state_and_hessian(self, s, Y, p):
-        """:meth:`state` (fields (g1, g2, kb1, kb2)) and the gradient (P, 4, m) and Hessian (P, 4, 4, m) of W in X at
-        every node: the ellipticity of the reduced energy is read from them
-        (:func:`shellbvp.ellipticity.ellipticity`)."""
+        """:meth:`state` (fields (g1, g2, kb1, kb2)) and the gradient (P, 4, m) and Hessian
+        (P, 4, 4, m) of W in X at every node: the ellipticity of the reduced energy is read
+        from them (:func:`shellbvp.ellipticity.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
         X, F, ok, gw, Hw = self._scan(s, Y, p)

@@ -132,7 +132,7 @@ def _arr(x):
 
 @lru_cache(maxsize=None)
 def point_functions(model, material, rhob1, metric):
-    """Single-node JAX functions (y (6,), s, F (4,), lam, h) -> ...
+    """Single-node JAX functions (y (6,), s, F (5,): g1, g2, kb1, kb2, pressure; lam, h) -> ...
 
     Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
     ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand

@@ -96,7 +96,9 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     reduced energy at the equilibrium ``eq`` (module docstring), with ``nodes`` Chebyshev
     points per piece (default: the scene's :func:`shellbvp.default_nodes`).
 
-    Raises ValueError for an equilibrium that did not converge or bad arguments.
+    Raises ValueError for an equilibrium that did not converge or bad arguments, and
+    ConvergenceError where the state cannot be evaluated at these points (no elliptic
+    inner root, e.g. next to where a branch lost ellipticity).
     """
     from .bvp import ShellBVP
     from .compiled import energy_function

@@ -54,3 +54,33 @@ def test_bad_input_is_named():
     failed = shellbvp.solve(ce.scene(THETA, H0), 1e9, throw=False)
     with pytest.raises(ValueError, match="converged"):
         second_variation(failed)
+
+
+@pytest.mark.slow  # a budding branch: ~1 min of compilation and continuation
+def test_budding_stable_then_ill_posed_at_the_loss_of_ellipticity():
+    """eta_a = 0, eta_b = 1: at kbar ~ 20 the smallest eigenvalue is positive and the same at
+    degrees 24, 32, 48 (to 1e-3); next to the stop (Legendre condition -> 0 at the apex) it
+    is negative, its value changes with the degree by more than 30 % and its mode crowds
+    closer to the apex as the degree grows: no physical bifurcation, an ill-posed problem."""
+    import numpy as np
+
+    from shellbvp.problems import budding
+
+    b = budding.branch(0.0, 1.0, 40.0)
+    mid = b.equilibrium(int(np.argmin(np.abs(b.p - 20.0))))
+    lam = [second_variation(mid, nodes=N, count=1).eigenvalues[0] for N in (24, 32, 48)]
+    assert min(lam) > 0 and max(lam) - min(lam) <= 1e-3 * min(lam)
+    # the last point whose state can be evaluated at all three degrees' points (right at the
+    # stop the inner root near the apex has no elliptic solution off the branch's own nodes)
+    for i in range(len(b.p) - 1, 0, -1):
+        try:
+            end = b.equilibrium(i)
+            svs = [second_variation(end, nodes=N, count=1) for N in (24, 32, 48)]
+            break
+        except shellbvp.ConvergenceError:
+            continue
+    assert b.p[i] > 35.0
+    vals = [sv.eigenvalues[0] for sv in svs]
+    where = [sv.s[int(np.argmax(np.abs(sv.theta_modes[0])))] for sv in svs]
+    assert max(vals) < 0 and min(vals) < 1.3 * max(vals)
+    assert where[0] > where[1] > where[2]
