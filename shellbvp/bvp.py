@@ -136,25 +136,34 @@ def _package_source() -> str:
 
 def _disk_key(functions, *parts) -> str | None:
     """A disk key for compiled kernels of the scene's ``functions`` (fields, pressure) and
-    ``parts``, or None when one of them is not a module-level function of this package (a
-    user's function, a closure: their code is not covered by the package's source hash, so
-    their programs stay in memory)."""
+    ``parts``, or None when one of them is neither a module-level function of this package
+    nor an instance of one of its module-level frozen dataclasses (a user's function, a
+    closure: their code is not covered by the package's source hash, so their programs stay
+    in memory)."""
     import sys
 
     from .cache import files_digest
+
+    import dataclasses
 
     names = []
     for fn in functions:
         if fn is None:
             names.append(None)
             continue
-        module = getattr(fn, "__module__", "") or ""
-        qualname = getattr(fn, "__qualname__", "") or ""
+        # a module-level function, or an instance of a module-level frozen dataclass (its
+        # code is the class's, its constants are its repr: e.g. a scene's stimulus patch)
+        data = dataclasses.is_dataclass(fn) and not isinstance(fn, type) and \
+            type(fn).__dataclass_params__.frozen
+        obj = type(fn) if data else fn
+        module = getattr(obj, "__module__", "") or ""
+        qualname = getattr(obj, "__qualname__", "") or ""
         if not module.startswith("shellbvp") or "<" in qualname or \
-                getattr(sys.modules.get(module), qualname, None) is not fn:
+                getattr(sys.modules.get(module), qualname, None) is not obj:
             return None
         # the scenes (shellbvp.problems) live outside the package folder: hash their module
-        names.append((module, qualname, files_digest([sys.modules[module].__file__])))
+        names.append((module, qualname, repr(fn) if data else None,
+                      files_digest([sys.modules[module].__file__])))
     return repr((_package_source(), tuple(names), parts))
 
 
