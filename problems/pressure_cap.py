@@ -78,7 +78,7 @@ def _elastic_constants(material, nu, lam):
     return 3.0, 0.5
 
 
-def _check(lambda_B, R_over_t, material):
+def _check(lambda_B, R_over_t, material, nu):
     for name, v in (("lambda_B", lambda_B), ("R_over_t", R_over_t)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -87,6 +87,8 @@ def _check(lambda_B, R_over_t, material):
                          f"{R_over_t!r}")
     if material not in ("koiter", "cg", "nh"):
         raise ValueError(f"material must be one of ('koiter', 'cg', 'nh'), got {material!r}")
+    if material == "koiter" and not (isinstance(nu, (int, float)) and -1.0 < nu < 1.0):
+        raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio), got {nu!r}")
 
 
 def geometry(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0):
@@ -94,7 +96,7 @@ def geometry(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0):
     R/t: h = t/R and 1 - cos Theta = lambda_B^2 / (4 sqrt(3 (1 - nu^2)) R/t), nu the
     material's Poisson ratio. Raises ValueError for a cap that is not one (rise beyond a
     hemisphere)."""
-    _check(lambda_B, R_over_t, material)
+    _check(lambda_B, R_over_t, material, nu)
     _, nu_ = _elastic_constants(material, nu, lam)
     rise = lambda_B**2 / (4.0 * math.sqrt(3.0 * (1.0 - nu_**2)) * R_over_t)
     if rise >= 1.0:

@@ -208,6 +208,8 @@ def test_bad_input_is_named():
         pc.critical_pressure(-1.0)
     with pytest.raises(ValueError, match="R_over_t"):
         pc.critical_pressure(5.0, R_over_t=0.5)
+    with pytest.raises(ValueError, match="nu"):
+        pc.critical_pressure(5.0, nu=1.5)
     with pytest.raises(ValueError, match="hemisphere"):
         pc.critical_pressure(50.0, R_over_t=100.0)
     with pytest.raises(ValueError, match="pressure"):
