@@ -40,9 +40,8 @@ def case(eta_a, eta_b, kbars, quick=False):
 
 
 def last_valid(b):
-    """The equilibrium at the last branch point whose state can be evaluated off the
-    method's nodes (at the very end, where the Legendre condition is ~0, the inner solve on
-    the quadrature points may find no elliptic root)."""
+    """The equilibrium at the last branch point whose state can be evaluated (every point
+    can since the continuation's inner roots start the evaluation; kept as a guard)."""
     from shellbvp import ConvergenceError
 
     for i in range(len(b.p) - 1, -1, -1):

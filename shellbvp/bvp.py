@@ -197,7 +197,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         f, J, fp, ok, q, dq = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
         return F, f, J, fp, ok, q, dq
 
-    def state_along(piece, s, y, p, lam, h, q_start):
+    def state_along(piece, s, y, p, lam, h, q_start, q_hints):
         # Each node from the previous node's (lam1, k1) (nodes in order along the meridian:
         # the state is continuous in s within a piece). Across an interface y is continuous
         # but (lam1, k1) jump with the fields: there the root is followed from the previous
@@ -213,10 +213,15 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
 
         def step(carry, args):
             q, F_prev = carry
-            piece_, s_, y_ = args
+            piece_, s_, y_, q_hint = args
             F = fields_at(piece_, s_, p)
-            warm = pf["algebraic"](y_, s_, F, lam, h, q)
-            second = jax.lax.cond(warm[2], lambda: warm,
+            # a given hint (the root a solver converged to there) comes first: near a loss
+            # of ellipticity the previous node's root may lead to no elliptic one
+            hinted = jnp.all(jnp.isfinite(q_hint))
+            warm = pf["algebraic"](y_, s_, F, lam, h, jnp.where(hinted, q_hint, q))
+            carried = jax.lax.cond(warm[2] | ~hinted, lambda: warm,
+                                   lambda: pf["algebraic"](y_, s_, F, lam, h, q))
+            second = jax.lax.cond(carried[2], lambda: carried,
                                   lambda: across(q, y_, s_, F_prev, F))
             q_new, X, ok = jax.lax.cond(second[2], lambda: second,
                                         lambda: pf["algebraic"](y_, s_, F, lam, h))
@@ -224,7 +229,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             return (jnp.where(ok, q_new, q), F), (X, F, ok, gw, Hw)
 
         F0 = fields_at(piece[0], s[0], p)
-        (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0), (piece, s, y))
+        (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0),
+                                                      (piece, s, y, q_hints))
         return X, F, ok, gw, Hw, q_end
 
     def pole_rows(ya, q, eps, F0, lam, h):
@@ -561,34 +567,39 @@ class ShellBVP:
         return Collocated(nodal, self._boundary_result(bc, p),
                           (float(m_), np.asarray(ga), np.asarray(gb)))
 
-    def state(self, s, Y, p):
-        """Principal state X = (lam1, lam2, k1, k2) (P, 4, m) and fields (P, 4, m) at nodes."""
-        X, F, _, _ = self.state_and_hessian(s, Y, p)
+    def state(self, s, Y, p, q_hint=None):
+        """Principal state X = (lam1, lam2, k1, k2) (P, 4, m) and fields (P, 4, m) at nodes;
+        ``q_hint`` (P, m, 2): starts for the inner roots (lam1, k1), e.g. a solver's."""
+        X, F, _, _ = self.state_and_hessian(s, Y, p, q_hint)
         return X, F
 
-    def state_and_hessian(self, s, Y, p):
+    def state_and_hessian(self, s, Y, p, q_hint=None):
         """:meth:`state` (fields (g1, g2, kb1, kb2)) and the gradient (P, 4, m) and Hessian
         (P, 4, 4, m) of W in X at every node: the ellipticity of the reduced energy is read
         from them (:func:`shellbvp.ellipticity.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
-        X, F, ok, gw, Hw = self._scan(s, Y, p)
+        X, F, ok, gw, Hw = self._scan(s, Y, p, q_hint)
         self._check(F, ok, s, p)
         F = F.reshape(P, m, 5)[:, :, :4]          # the stimulus fields (the pressure is p's)
         return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F, -1, 1),
                 np.moveaxis(gw.reshape(P, m, 4), -1, 1), np.moveaxis(Hw.reshape(P, m, 4, 4), 1, -1))
 
-    def _scan(self, s, Y, p):
+    def _scan(self, s, Y, p, q_hint=None):
         """The state along the meridian (flattened nodes, piece-major), each node's inner
-        Newton started from the previous one's (see ``state_along`` in the kernels)."""
+        Newton started from ``q_hint`` there (P, m, 2) where given and finite, else from the
+        previous node's root (see ``state_along`` in the kernels)."""
         P, m = s.shape
         piece, chunks = self._layout(P, m)
         sf, yf = s.reshape(-1), _flat_nodes(Y)
+        qh = np.full((P * m, 2), np.nan) if q_hint is None else \
+            np.asarray(q_hint, dtype=float).reshape(P * m, 2)
         q = np.full(2, np.nan)         # the first node starts from the pole-like guess
         outs = []
         for start, stop, idx in chunks:
             X, F, ok, gw, Hw, q = self._k["state"](piece[idx], sf[idx], yf[idx], float(p),
-                                                   self.material_parameter, self.scene.h, q)
+                                                   self.material_parameter, self.scene.h, q,
+                                                   qh[idx])
             n = stop - start
             outs.append((X[:n], F[:n], ok[:n], gw[:n], Hw[:n]))
         return tuple(np.concatenate(parts) for parts in zip(*outs))
@@ -662,12 +673,14 @@ class ShellBVP:
 
         return ev
 
-    def energies(self, dense_t, p):
+    def energies(self, dense_t, p, roots=None):
         """(E_s, E_b, E_p) = 2 pi int (w_s, h^2/12 w_b) g1 g2 sin s ds and the pressure's
         potential E_p = P V = pi P int r^2 g1 lam1 sin(theta) ds (0 without a load), per
         mu* h0 R0^2, by Gauss-Legendre quadrature per piece plus the polar cap [0, eps] (W is
         constant there to O(eps^2); r^2 makes its E_p O(eps^4)). ``dense_t(t)`` is the
-        stacked (6 P, n) solution in the piece coordinate."""
+        stacked (6 P, n) solution in the piece coordinate; ``roots`` = (t (m,), q (P, m, 2)):
+        the inner roots at a solver's nodes, interpolated as starts at the quadrature
+        points."""
         from .energy import energy_terms
 
         sc = self.scene
@@ -678,7 +691,12 @@ class ShellBVP:
         wt = (half[:, None] * wg[None, :]).ravel()
         s = np.stack([self.s_of(i, t) for i in range(self.P)])
         Y = np.asarray(dense_t(t)).reshape(self.P, 6, t.size)
-        X, F = self.state(s, Y, p)
+        hint = None
+        if roots is not None:
+            tn, qn = roots
+            hint = np.stack([np.stack([np.interp(t, tn, qn[i, :, c]) for c in range(2)], -1)
+                             for i in range(self.P)])
+        X, F = self.state(s, Y, p, hint)
         g1, g2, kb1, kb2 = np.moveaxis(F, 1, 0)
         ws, wb, _, _ = energy_terms(*np.moveaxis(X, 1, 0), kb1, kb2, lam=sc.lam, nu=sc.nu,
                                     model=sc.model, material=sc.material, rhob1=sc.rhob1)

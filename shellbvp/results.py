@@ -40,7 +40,8 @@ class Equilibrium:
             split into the w_s and h^2/12 w_b parts, plus ``load_potential``.
         load_potential: the pressure's potential P V (V the volume between the surface and
             the plane of its edge; 0 without a load), included in ``energy``, which is then
-            the total potential energy.
+            the total potential energy. The energies are nan where their quadrature points
+            between the nodes have no elliptic inner root (next to a loss of ellipticity).
         w: the BVP's observable in R0 (free edge: vertical displacement of the edge relative
             to the apex; clamped edge: of the apex relative to the edge, positive along +z).
         legendre: per node, the Legendre condition of the axisymmetric energy: smallest
@@ -113,7 +114,16 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     t, Ys = system.nodes(U, p)
     Y = Ys.reshape(bvp.P, 6, t.size)
     s_all = np.stack([bvp.s_of(i, t) for i in range(bvp.P)])
-    X, F, gw, Hw = bvp.state_and_hessian(s_all, Y, p)
+    # the inner roots the solver converged to, as starts: next to a loss of ellipticity a
+    # root followed along the meridian from the pole may find none (the budding branches'
+    # last points could not be evaluated before)
+    roots = None
+    if hasattr(system, "inner_roots"):
+        try:
+            roots = system.inner_roots(U, p)
+        except ConvergenceError:
+            roots = None
+    X, F, gw, Hw = bvp.state_and_hessian(s_all, Y, p, roots)
     keep = [slice(None) if i == 0 else slice(1, None) for i in range(bvp.P)]  # interfaces once
     s = np.concatenate([s_all[i, k] for i, k in enumerate(keep)])
     y = np.concatenate([Y[i][:, k] for i, k in enumerate(keep)], axis=1)
@@ -125,7 +135,15 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     dense_t = system.dense(U, p)
     z_apex = y[1, 0] + y[0, 0] * y[2, 0] / 2     # z(0) from the regular series at eps
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
-    Es, Eb, Ep = bvp.energies(dense_t, p)
+    message = "converged"
+    try:
+        Es, Eb, Ep = bvp.energies(dense_t, p, None if roots is None else (t, roots))
+    except ConvergenceError as exc:
+        # the quadrature needs the state between the nodes, where next to a loss of
+        # ellipticity the interpolated meridian may have no elliptic inner root: the shape
+        # and strains at the nodes stand, the energy is not available
+        Es = Eb = Ep = math.nan
+        message = f"converged; energies not available (quadrature between the nodes: {exc})"
     scale = sc.h**2 / 12
     return Equilibrium(
         scene=sc, p=float(p), s=s, r=y[0], z=y[1] - z_apex, theta=y[2], lam1=X[0], lam2=X[1],
@@ -133,7 +151,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb + Ep,
         stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.rise),
         error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
-        message="converged", z_apex=float(z_apex), profile=bvp.profile(dense_t),
+        message=message, z_apex=float(z_apex), profile=bvp.profile(dense_t),
         legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
         load_potential=float(Ep))

@@ -155,7 +155,10 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
 
     # the state at the nodes, from the equilibrium's own interpolant and inner roots
     Y = np.stack([eq.unknowns(s[i]) for i in range(P)])                 # (P, 6, N + 1)
-    X, _ = bvp.state(s, Y, eq.p)
+    # the equilibrium's inner roots, interpolated, start the inner solves at these points
+    hint = np.stack([np.stack([np.interp(s[i], eq.s, eq.lam1), np.interp(s[i], eq.s, eq.k1)],
+                              axis=-1) for i in range(P)])
+    X, _ = bvp.state(s, Y, eq.p, hint)
     v0 = jnp.asarray(np.concatenate([Y[:, 2].ravel(), X[:, 0].ravel()]))
     grad = np.asarray(jax.grad(energy)(v0))
     A = np.asarray(jax.jacfwd(constraints)(v0))

@@ -101,6 +101,11 @@ def test_branch_stops_where_the_energy_loses_ellipticity():
     ok = np.isfinite(d.legendre)
     assert np.all(d.legendre[ok] > 0) and d.legendre[ok][-1] < 0.02 * d.legendre[0]
     assert np.all(np.diff(b.p) > 0)            # no fold on the way: kbar grows along it
+    # every point, the last ones included, gives its equilibrium (the inner roots the
+    # continuation converged to start the state's evaluation), with the branch's w
+    for i in range(len(b.p) - 3, len(b.p)):
+        eq = b.equilibrium(i)
+        assert eq.success and abs(eq.w - b.w[i]) <= 1e-12
 
 
 def _first_variation(eq, directions, n=3000):

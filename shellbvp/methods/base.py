@@ -96,6 +96,13 @@ class NodalSystem:
     def col(self, i, c):
         return (i * self.n + c) * (self.M + 1)
 
+    def inner_roots(self, U, p) -> np.ndarray:
+        """The inner roots (lam1, k1) at the nodes (P, M + 1, 2), the BVP's inner solve
+        warm-started from this system's last evaluation (as during its solves): starts for
+        evaluating the state elsewhere (:meth:`shellbvp.bvp.ShellBVP.state`)."""
+        nodal = self.bvp.rhs(self.s, self.split(U), p, self._hint)
+        return np.asarray(nodal.hint.q).reshape(self.P, self.M + 1, 2)
+
     # --- the system --------------------------------------------------------------------------
     def interior(self, Y, p, nodal):
         """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp),
