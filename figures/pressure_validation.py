@@ -34,7 +34,8 @@ from shellbvp import ContinuationOptions
 from shellbvp.problems import pressure_cap as pc
 
 #: Table 1 of Teng & Rotter (1989): lambda_B, Budiansky (1959), Dumir & Nath (1984),
-#: Teng & Rotter (1989, R/t = 100); p_cr / p0, nu = 0.3
+#: Teng & Rotter (1989, R/t = 100); p_cr / p0, nu = 0.3 (read from the transcription of that
+#: table in the examples of AQUINAS, Filippidis & Sadowski, Imperial College, BSD-3)
 PUBLISHED = ((4.0, 0.578, 0.580, 0.563), (5.0, 0.629, 0.630, 0.615),
              (5.5, 0.789, 0.785, 0.746), (6.0, 0.995, 0.986, 0.972),
              (7.0, 1.068, 1.042, 1.046), (8.0, 1.130, 1.115, 1.109))
