@@ -135,8 +135,8 @@ def point_functions(model, material, rhob1, metric):
     """Single-node JAX functions (y (6,), s, F (5,): g1, g2, kb1, kb2, pressure; lam, h) -> ...
 
     Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
-    ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]): the right-hand
-    side, its Jacobian and its derivative along a change dF of the fields (df/dp when
+    ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF,
+    converged, q, [dq/dy, dq/dF . dF]): the right-hand side, its Jacobian and its derivative along a change dF of the fields (df/dp when
     dF = dF/dp), all by implicit differentiation of G = 0; ``q_init`` warm-starts the inner
     Newton. ``root`` is the inner Newton itself; ``q_linear`` and ``f_linear`` give the root
     and f as functions of (y, s, F, lam, h) exact to first order (their JAX derivatives are

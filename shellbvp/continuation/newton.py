@@ -110,9 +110,10 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
 
     Converged when the update is below ``tol`` relative to the unknowns, or when it stalls
     twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
-    last update of p), after at least ``min_iterations`` iterations (2: the point is then the result of a step taken with the
-    Jacobian of a point already within tol, not of a start whose Jacobian may be inexact,
-    e.g. carried from another discretisation with a cold inner solve). Returns
+    last update of p), after at least ``min_iterations`` iterations (2: the point is then
+    the result of a step taken with the Jacobian of a point already within tol, not of a
+    start whose Jacobian may be inexact, e.g. carried from another discretisation with a
+    cold inner solve). Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
     iterations, growing updates, or - with ``fail_fast`` - an update not at least
     ``FAIL_CONTRACTION`` times the one before; the caller decides what to do.
