@@ -25,6 +25,8 @@ from shellbvp import Chebyshev, ContinuationOptions, Scene
 
 #: ODE tolerance at which a shooting branch is followed to bracket its snap fold
 BRACKET_RTOL = 1e-5
+#: largest step in w / H along the fold curve from the first snapping cap to the cusp
+ONSET_STEP = 0.05
 
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset",
            "Onset", "flat_slope"]
@@ -158,9 +160,11 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
 
     Each cap is continued from kappa = 0 until a cap snaps; the caps after it (spectral
-    method) start from the snap fold of the caps before (:func:`shellbvp.fold_near`, along
-    the fold curve), falling back to continuation where that fails. Either way every kappa_s
-    is refined on the same ladder to ``tol``.
+    method) are points of the fold curve: the fold system (equilibrium and dp/dm = 0, exact
+    second derivatives) solved by Newton at exactly that T from the extrapolation of the
+    folds of the caps before (:func:`shellbvp.fold_near`), falling back to continuation
+    where that fails. Either way every kappa_s is refined on the ladder of degrees to
+    ``tol`` and carries the change between its last two rungs as its error estimate.
 
     Returns a dict of arrays ``T``, ``theta``, ``kappa_s``, ``w_s``, ``error_estimate``,
     ``snaps`` (kappa_s = nan where the cap does not snap) and ``along_fold_curve`` (found
@@ -183,7 +187,7 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
         if r is None:
             r = snap_curvature(theta, h, lam, model=model, material=material, nu=nu,
                                tol=tol, method=method)
-        folds = (folds + [(T, r.fold)])[-2:] if r.snaps else []
+        folds = (folds + [(T, r.fold)])[-3:] if r.snaps else []
         rows.append((float(T), float(r.theta), float(r.kappa_s), float(r.w_s),
                      float(r.error_estimate), bool(r.snaps),
                      bool(r.stats.get("along_fold_curve", False))))
@@ -198,20 +202,21 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
 
 
 def _along_fold_curve(T, folds, h, lam, model, material, nu, tol):
-    """kappa_s at shallowness T from the snap folds at the previous one or two T of a sweep
-    (:func:`shellbvp.fold_near`, seeded by linear extrapolation of (w/H, kappa) in T along
-    the fold curve), or None where that does not find the snap fold (then the sweep
+    """kappa_s at shallowness T from the snap folds at the previous one to three T of a
+    sweep (:func:`shellbvp.fold_near`: Newton on the fold system, started from the
+    extrapolation of the folds' states and kappa in T along the fold curve), or None where that does not find the snap fold (then the sweep
     continues the cap from kappa = 0): a fold that is not the first one (w >= H, the mirror
     fold past the flat state) or a failure, e.g. next to the onset cusp."""
     (T1, f1) = folds[-1]
-    m, p = f1.monitor, f1.p
-    if len(folds) == 2:
-        (T0, f0) = folds[0]
-        m += (f1.monitor - f0.monitor) * (T - T1) / (T1 - T0)
-        p += (f1.p - f0.p) * (T - T1) / (T1 - T0)
+    # Lagrange weights of the extrapolation to T through the previous folds' T
+    Ts = [Tk for Tk, _ in folds]
+    weights = [math.prod((T - Tj) / (Ti - Tj) for j, Tj in enumerate(Ts) if j != i)
+               for i, Ti in enumerate(Ts)]
+    m = sum(wt * f.monitor for wt, (_, f) in zip(weights, folds))
     sc = scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
     try:
-        f = shellbvp.fold_near(sc, f1, monitor=m, p=p,
+        f = shellbvp.fold_near(sc, f1, monitor=m,
+                               extrapolate=[(f, wt) for wt, (_, f) in zip(weights, folds)],
                                options=ContinuationOptions.to_first_fold(fold_tol=tol))
     except shellbvp.ConvergenceError:
         return None
@@ -227,9 +232,12 @@ class Onset:
 
     By the mirror symmetry (kappa, w) -> (2 - kappa, 2H - w) the branch of a shallow cap
     passes through the flat state (w = H, kappa = 1), where dkappa/dw is even in w - H: the
-    first fold pair is born there when dkappa/dw at the flat state changes sign (a cusp).
-    ``T`` is that root; ``error_estimate`` its change with 8 more Chebyshev nodes plus the
-    root tolerance; ``bracket`` the T interval scanned; ``kappa_s`` is 1 at onset.
+    first fold pair is born there when dkappa/dw at the flat state changes sign. On the
+    fold curve in (T, kappa) that is the cusp where the snap fold and its mirror meet, at
+    w = H. ``T`` is found there (:func:`onset`); ``error_estimate`` is its change with the
+    next Chebyshev degree plus the solver's tolerance; ``bracket`` the T interval of the
+    scan; ``kappa`` the fold's kappa R0 at the cusp (1 by the symmetry: computed, a check);
+    ``stats``: the fold-curve steps and Newton iterations.
     """
 
     T: float
@@ -239,6 +247,8 @@ class Onset:
     lam: float
     model: str
     material: str
+    kappa: float = math.nan
+    stats: dict = field(repr=False, default_factory=dict)
 
 
 def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=None):
@@ -252,20 +262,25 @@ def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=N
 
 def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_step=0.25,
           T_max=6.0, tol=1e-6) -> Onset:
-    """The onset of snapping: scan T upwards from T_lo in steps of T_step until the slope at
-    the flat state (:func:`flat_slope`) turns negative, then solve slope = 0 by Brent's
-    method to ``tol`` in T. Raises ValueError if the slope is already negative at T_lo or
-    stays positive up to T_max."""
-    from scipy.optimize import brentq
+    """The onset of snapping, the cusp of the fold curve: scan T upwards from T_lo in steps
+    of T_step until the slope at the flat state (:func:`flat_slope`) turns negative (the
+    first T that snaps), take the snap fold there (:func:`snap_curvature`) and follow the
+    fold curve with the edge displacement w prescribed and T free
+    (:func:`shellbvp.continuation.fold_at_monitor`: Newton on equilibrium, dp/dm = 0 and
+    w, exact second derivatives) in steps of at most ``ONSET_STEP`` in w / H up to w = H,
+    where the fold curve ends in the cusp. Solved on the fold's finest degree and again on
+    the next one (the change, plus ``tol``, is the error estimate). Raises ValueError if the
+    slope is already negative at T_lo or stays positive up to T_max, and ConvergenceError
+    if the fold curve cannot be followed to the cusp."""
+    from dataclasses import replace as _replace
+
+    from shellbvp.continuation import fold_at_monitor
 
     for name, v in (("T_lo", T_lo), ("T_step", T_step), ("T_max", T_max), ("tol", tol)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a positive number, got {v!r}")
 
-    def slope(T, nodes=None):
-        return flat_slope(T, h, lam, model=model, material=material, nu=nu, nodes=nodes)
-
-    a, ga = T_lo, slope(T_lo)
+    a, ga = T_lo, flat_slope(T_lo, h, lam, model=model, material=material, nu=nu)
     if ga <= 0:
         raise ValueError(f"onset: the cap already snaps at T_lo = {T_lo} (slope {ga:.3g}); "
                          f"lower T_lo")
@@ -273,13 +288,31 @@ def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_ste
         b = a + T_step
         if b > T_max:
             raise ValueError(f"onset: no snap up to T_max = {T_max}")
-        gb = slope(b)
-        if gb < 0:
+        if flat_slope(b, h, lam, model=model, material=material, nu=nu) < 0:
             break
-        a, ga = b, gb
-    T1 = brentq(slope, a, b, xtol=tol)
-    nodes = shellbvp.default_nodes(scene(T1 * math.sqrt(h), h, lam, model=model,
-                                         material=material, nu=nu))
-    T2 = brentq(lambda T: slope(T, nodes + 8), a, b, xtol=tol)
+        a = b
+    snap = snap_curvature(b * math.sqrt(h), h, lam, model=model, material=material, nu=nu,
+                          tol=min(tol, 1e-8))
+    if not snap.snaps:
+        raise shellbvp.ConvergenceError(f"onset: the cap at T = {b:g} has a negative slope "
+                                        f"at the flat state but no snap fold was found")
+    base = scene(b * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
+    fold = snap.fold
+
+    def at_theta(system):
+        return lambda th: system.on(shellbvp.ShellBVP(_replace(base, theta=th)))
+
+    system, U, p, theta = fold.system, fold.U, fold.p, base.theta
+    steps = max(1, math.ceil((1.0 - fold.monitor) / ONSET_STEP))
+    iterations = 0
+    for m in np.linspace(fold.monitor, 1.0, steps + 1)[1:]:
+        system, U, p, theta, its = fold_at_monitor(system, U, p, theta, m, at_theta(system))
+        iterations += its
+    finer = system.refined()
+    _, _, p2, theta2, its = fold_at_monitor(finer, system.transfer(U, p, finer), p, theta,
+                                             1.0, at_theta(finer))
+    T1, T2 = float(theta) / math.sqrt(h), float(theta2) / math.sqrt(h)
     return Onset(T=T2, error_estimate=abs(T2 - T1) + tol, bracket=(a, b), h=h, lam=lam,
-                 model=model, material=material)
+                 model=model, material=material, kappa=float(p2),
+                 stats=dict(steps=steps, newton_iterations=iterations + its,
+                            nodes=finer.describe()["nodes"]))

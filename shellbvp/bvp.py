@@ -69,6 +69,8 @@ POLE_OFFSET = 1e-4
 #: (Fixed chunks of 16 or 24 nodes, dispatched together so that every degree runs on the
 #: same programs, cost 30-50 % more per kappa_s: each compiled call has a fixed cost.)
 CHUNKS = (8, 16, 24, 40, 56, 72, 96, 128, 192, 256, 384, 512)
+#: nodes per compiled call of the fold system's second derivatives (:meth:`ShellBVP.fold_terms`)
+FOLD_CHUNK = 24
 #: steps in which the inner root is carried across an interface as the fields jump
 #: (post-processing only; the methods carry it from their previous iterate)
 INTERFACE_STEPS = 16
@@ -233,8 +235,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                                                       (piece, s, y, q_hints))
         return X, F, ok, gw, Hw, q_end
 
-    def pole_rows(ya, q, eps, F0, lam, h):
-        X = pf["X"](ya, q, eps, F0, h)
+    def pole_rows(ya, q, eps, F0, lam, h, fns=pf):
+        X = fns["X"](ya, q, eps, F0, h)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         # regularity of the deformed surface at the apex: equal actual stretches
         # g1 lam1 = g2 lam2 (r ~ g1 lam1 s and lam2 = r / (g2 sin s)) and k1 = k2
@@ -245,7 +247,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             # W_k1k1 and k* the curvatures that make the moments vanish (W is quadratic in
             # k); k1 - k2 = A at eps excludes the 1/s mode exactly as k1 = k2 does for a
             # regular apex, where A = 0
-            g, H = pf["hessian"](ya, q, eps, F0, lam, h)
+            g, H = fns["hessian"](ya, q, eps, F0, lam, h)
             kstar = X[2:] - jnp.linalg.solve(H[2:, 2:], g[2:])
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
         return jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
@@ -325,6 +327,22 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return (jnp.stack(jax.jacfwd(rows, argnums=(0, 1, 2, 3))(eps, theta, lam, h), axis=-1),
                 jax.grad(observable, argnums=2)(ya, yb, theta))
 
+    def fold_node(piece, s, y, p, lam, h, q, dq, wn, wb, v, dp):
+        # phi = wn . f + wb . (pole rows) at one node (wb = 0 but at the pole), along the
+        # inner root q (derivative dq): the derivative of phi along (v, dp) and that of its
+        # gradient in (y, p, s), exact (``curvature`` of :func:`point_functions`)
+        def phi(fns, y_, q_, s_, F_):
+            return jnp.stack([wn @ fns["f"](y_, q_, s_, F_, lam, h),
+                              wb @ pole_rows(y_, q_, s_, F_, lam, h, fns)])
+
+        return pf["curvature"](phi, (y, p, s), (v, dp, jnp.zeros_like(s)), lam, h, q, dq,
+                               lambda s_, p_: fields_at(piece, s_, p_))
+
+    def observable_curvature(ya, yb, theta, va, vb):
+        # the gradient in (ya, yb, theta) of the observable's derivative along (va, vb)
+        return jax.jvp(lambda a, b: jax.grad(observable, argnums=(0, 1, 2))(a, b, theta),
+                       (ya, yb), (va, vb))[1]
+
     def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
         # everything a collocation method needs at one iterate, in one dispatch; the first
         # node is the pole (s = eps, y = ya), whose inner root the pole rows reuse
@@ -340,6 +358,9 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         observable=packed(jax.value_and_grad(observable, argnums=(0, 1)), "observable"),
         sensitivity=packed(jax.vmap(sensitivity_one, in_axes=ax), "sensitivity"),
         boundary_sensitivity=packed(boundary_sensitivity, "boundary_sensitivity"),
+        fold_nodal=packed(jax.vmap(fold_node, in_axes=(0, 0, 0, None, None, None, 0, 0, 0, 0,
+                                                      0, None)), "fold_nodal"),
+        observable_curvature=packed(observable_curvature, "observable_curvature"),
         vector_field=vector_field,
     )
 
@@ -636,6 +657,53 @@ class ShellBVP:
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
             sc.theta, self.material_parameter, sc.h)
         return np.asarray(dr), float(dm)
+
+    def fold_terms(self, s, Y, p, Wn, wb, V, dp, hint=None):
+        """Second-derivative terms of a fold system at nodes s (P, m), states Y (P, 6, m):
+        for phi = Wn . f at every node (weights Wn (P, 6, m)) plus wb . (pole rows) at the
+        first node (the pole, s = eps), the derivative of phi along (V (P, 6, m), dp) and
+        that of its gradient in (y, p, s), exact (no finite differences): (dphi (P, m, 2),
+        the parts wn . f and wb . (pole rows), dgrad_y (P, 6, m), dgrad_p (P, m), dgrad_s (P, m)). ``hint``: the BVP's nodal
+        result at exactly these states (its roots and their derivatives), else computed."""
+        s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
+        P, m = s.shape
+        if not (isinstance(hint, _Hint) and hint.q.shape == (P * m, 2) and hint.p == p
+                and np.array_equal(hint.y, _flat_nodes(Y))):
+            hint = self.rhs(s, Y, p, hint).hint
+        WB = np.zeros((P * m, 3))
+        WB[0] = wb
+        out = self._flat_fold(s, Y, p, (hint.q, hint.dq, _flat_nodes(Wn), WB, _flat_nodes(V)),
+                              dp)
+        dphi, dgy, dgp, dgs = out
+        if not all(np.all(np.isfinite(o)) for o in out):
+            raise ConvergenceError("fold system: second derivatives are not finite")
+        return (dphi.reshape(P, m, 2), np.moveaxis(dgy.reshape(P, m, 6), -1, 1),
+                dgp.reshape(P, m), dgs.reshape(P, m))
+
+    def _flat_fold(self, s, Y, p, extra, dp):
+        # chunks of one size, FOLD_CHUNK: every resolution runs on one compiled program
+        # (~12 s to compile for a relaxed energy, against ~0.1 ms per extra chunk)
+        P, m = s.shape
+        n = P * m
+        piece = np.repeat(np.arange(P), m)
+        chunks = [(start, min(start + FOLD_CHUNK, n),
+                   np.minimum(np.arange(start, start + FOLD_CHUNK), min(start + FOLD_CHUNK, n) - 1))
+                  for start in range(0, n, FOLD_CHUNK)]
+        sf, yf = s.reshape(-1), _flat_nodes(Y)
+        kernel = self._k["fold_nodal"]
+        handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
+                                   self.material_parameter, self.scene.h,
+                                   *[e[idx] for e in extra], float(dp)) for _, _, idx in chunks]
+        outs = [[np.asarray(o)[: stop - start] for o in kernel.collect(hd)]
+                for (start, stop, _), hd in zip(chunks, handles)]
+        return [np.concatenate(parts) for parts in zip(*outs)]
+
+    def monitor_curvature(self, ya, yb, va, vb):
+        """The gradient in (ya, yb, theta) of the monitor's derivative along (va, vb)."""
+        out = self._k["observable_curvature"](np.asarray(ya, float), np.asarray(yb, float),
+                                              self.scene.theta, np.asarray(va, float),
+                                              np.asarray(vb, float))
+        return tuple(np.asarray(o) for o in out)
 
     def _boundary_result(self, out, p):
         r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in out)

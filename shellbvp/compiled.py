@@ -148,6 +148,69 @@ def point_functions(model, material, rhob1, metric):
     def W4(X, kb1, kb2, lam, h):
         return Wf(X[0], X[1], X[2], X[3], kb1, kb2, lam, h)
 
+    pf = _functions_of(W4, el)
+
+    def curvature(phi, x, t, lam, h, q_root, dq, fields):
+        """Second derivatives along the root, for a fold system: with x = (y, p, s) and a
+        direction t = (v, dp, 0) in x (q_root the root at x, dq its derivative in (y, p)
+        from :func:`rhs_jac`), the derivative along t of phi(fns, y, q, s, F) (F = fields(s, p)
+        the five fields, q the root; ``fns`` the functions below, to be used by phi; phi may
+        return several parts, each differentiated) and of the gradient of their sum in x, exact (``implicit_gradient`` differentiated once more).
+
+        The third derivatives of W this takes are those along the direction a in
+        Z = (lam1, lam2, k1, k2, kb1, kb2) that t moves the state in: W is replaced by its
+        Taylor polynomial about the state with the cubic term 3 al d.Kd - 3 al^2 Ka.d +
+        al^3 a.Ka (al = a.d / a.a, K = D^3 W [a]), whose third derivative along a is K and
+        whose value, gradient and Hessian there are W's. A derivative of the relaxed
+        energy's full third-derivative tensor through every implicit solve took ~70 s to
+        compile; the polynomial leaves one directional jet of W to the compiler."""
+        stop = jax.lax.stop_gradient
+
+        def Z_of(y_, p_, s_):
+            # the root moves along its implicit derivative dq = [dq/dy, dq/dp] (t has no
+            # component in s)
+            F_ = fields(s_, p_)
+            q = q_root + dq[:, :6] @ (y_ - stop(y_)) + dq[:, 6] * (p_ - stop(p_))
+            return jnp.concatenate([pf["X"](y_, q, s_, F_, h), F_[2:4]])
+
+        Z0, a = (stop(v) for v in jax.jvp(Z_of, x, t))
+
+        def W6(Z):
+            return Wf(Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], lam, h)
+
+        W0, g = jax.value_and_grad(W6)(Z0)
+        H, K = jax.jvp(jax.jacfwd(jax.grad(W6)), (Z0,), (a,))
+        aa = a @ a
+        u = jnp.where(aa > 0, a / jnp.where(aa > 0, aa, 1.0), 0.0)
+
+        def W_model(X, kb1, kb2, lam_, h_):
+            d = jnp.concatenate([X, jnp.stack([kb1, kb2])]) - Z0
+            al = u @ d
+            cubic = 3 * al * (d @ K @ d) - 3 * al**2 * (K @ a) @ d + al**3 * (a @ K @ a)
+            return W0 + g @ d + 0.5 * d @ H @ d + cubic / 6.0
+
+        fns = _functions_of(W_model, el)
+
+        def value_and_gradient(y_, p_, s_):
+            F_, fields_vjp = jax.vjp(lambda pp, ss: fields(ss, pp), p_, s_)
+
+            def ph(yy, qq, ss, FF):
+                return jnp.sum(phi(fns, yy, qq, ss, FF))
+
+            gy, gs, gF = fns["implicit_gradient"](ph, y_, s_, F_, lam, h, q_root)
+            gp, gs_fields = fields_vjp(gF)
+            q = fns["q_linear"](y_, s_, F_, lam, h, q_root)
+            return phi(fns, y_, q, s_, F_), gy, gp, gs + gs_fields
+
+        return jax.jvp(value_and_gradient, x, t)[1]
+
+    return dict(pf, curvature=curvature)
+
+
+def _functions_of(W4, el):
+    """The single-node functions of :func:`point_functions` for the energy W4(X, kb1, kb2,
+    lam, h) and the generated Euler-Lagrange expressions ``el``."""
+
     def grad_aux(X, kb1, kb2, lam, h):
         g = jax.jacfwd(W4)(X, kb1, kb2, lam, h)
         return g, g
@@ -271,10 +334,28 @@ def point_functions(model, material, rhob1, metric):
         sensitivities of the right-hand side to the scene's geometry and material."""
         return f_and_G(y, q_linear(y, s, F, lam, h, q_root), s, F, lam, h)[0]
 
+    def implicit_gradient(phi, y, s, F, lam, h, q_root):
+        """The gradient in (y, s, F) of phi(y, q, s, F) along the root q = q(y, s, F) of
+        G = 0, by the adjoint of implicit differentiation: d phi = phi_x - mu . G_x with
+        G_q^T mu = phi_q^T, evaluated at the root exact to first order (:func:`q_linear`):
+        the gradient is then itself exact to first order about (y, s, F), and its JAX
+        directional derivative is an exact second derivative of phi along the root, with no
+        derivative through the inner Newton."""
+        def G(y_, q_, s_, F_):
+            return f_and_G(y_, q_, s_, F_, lam, h)[1]
+
+        q = q_linear(y, s, F, lam, h, q_root)
+        Gq = jax.jacfwd(G, argnums=1)(y, q, s, F)
+        mu = jnp.linalg.solve(Gq.T, jax.grad(phi, argnums=1)(y, q, s, F))
+        return jax.grad(lambda y_, s_, F_: phi(y_, q, s_, F_) - mu @ G(y_, q, s_, F_),
+                        argnums=(0, 1, 2))(y, s, F)
+
     def hessian(y, q, s, F, lam, h):
         """The gradient and Hessian of W in X = (lam1, lam2, k1, k2) at the state (y, q)."""
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
     return {"root": root, "algebraic": algebraic, "X": X_of, "rhs_jac": rhs_jac,
-            "hessian": hessian, "q_linear": q_linear, "f_linear": f_linear}
+            "hessian": hessian, "q_linear": q_linear, "f_linear": f_linear,
+            "f": lambda y, q, s, F, lam, h: f_and_G(y, q, s, F, lam, h)[0],
+            "implicit_gradient": implicit_gradient}

@@ -44,6 +44,7 @@ class _Factor:
             except RuntimeError as exc:          # "Factor is exactly singular"
                 raise np.linalg.LinAlgError(str(exc)) from None
             self.solve = self._lu.solve
+            self.solve_transposed = lambda b: self._lu.solve(b, trans="T")
         else:
             with warnings.catch_warnings():
                 warnings.simplefilter("error", sla.LinAlgWarning)
@@ -52,6 +53,7 @@ class _Factor:
                 except sla.LinAlgWarning as exc:
                     raise np.linalg.LinAlgError(str(exc)) from None
             self.solve = lambda b: sla.lu_solve(lu, b, check_finite=False)
+            self.solve_transposed = lambda b: sla.lu_solve(lu, b, trans=1, check_finite=False)
 
 
 def _bordered(J, Rp, last_row, beta):
@@ -66,7 +68,8 @@ def _bordered(J, Rp, last_row, beta):
 
 
 def bordered_lu(J, Rp, last_row, beta):
-    """The factored bordered matrix [[J, Rp], [last_row, beta]] (``.solve(b)``); raises
+    """The factored bordered matrix [[J, Rp], [last_row, beta]] (``.solve(b)``,
+    ``.solve_transposed(b)``); raises
     numpy.linalg.LinAlgError if it is singular."""
     return _Factor(_bordered(J, Rp, last_row, beta))
 

@@ -212,6 +212,40 @@ class ChebyshevSystem(NodalSystem):
             out[x] = (np.concatenate(rows), dm_theta if x == "theta" else 0.0)
         return out
 
+    def curvature_terms(self, U, p, w, v, dp) -> tuple:
+        """The gradient in (U, p, theta) of the second directional derivative
+        d/de [w_R . R(U + e v, p + e dp) + w_m m(U + e v)] at e = 0, w = (w_R, w_m): with
+        (v, dp) and w the right and left null vectors of the bordered matrix
+        [[dR/dU, dR/dp], [dm/dU, 0]], it is minus the gradient of the fold test function
+        dp/dm (:mod:`shellbvp.continuation.fold_curve`). Returns (dU (size,), dp, dtheta),
+        exact: the BVP's second derivatives from JAX along the inner root (implicit), theta
+        moving the edge (and the default pole offset) with the interfaces fixed, as in
+        :meth:`parameter_derivatives`."""
+        bvp, n, P, N = self.bvp, self.n, self.P, self.N
+        Y, V = self.split(U), self.split(v)
+        wR, w0 = np.asarray(w[:-1], dtype=float), float(w[-1])
+        Wn, row = [], n
+        for i in range(P):
+            Wn.append(wR[row:row + n * N].reshape(n, N) @ self._Pm)   # weights at the nodes
+            row += n * N + (n if i < P - 1 else 0)
+        L = bvp.lengths
+        # the pole rows enter as part of the pole node's phi, scaled as the interior's -L f
+        dphi, dgy, dgp, dgs = bvp.fold_terms(self.s, Y, p, np.stack(Wn), -wR[:3] / L[0], V,
+                                             dp, self._hint)
+        da = np.zeros(P)
+        db = np.zeros(P)
+        da[0], db[-1] = bvp.eps_per_theta, 1.0
+        gU = -L[:, None, None] * dgy
+        g_p = -float(np.sum(L * dgp.sum(axis=1)))
+        g_th = -float(sum((db[i] - da[i]) * dphi[i, :, 0].sum()
+                          + L[i] * np.sum((da[i] + (db[i] - da[i]) * self.t) * dgs[i])
+                          for i in range(P)))
+        mya, myb, mth = bvp.monitor_curvature(Y[0, :, 0], Y[-1, :, -1], V[0, :, 0],
+                                              V[-1, :, -1])
+        gU[0, :, 0] += w0 * mya
+        gU[-1, :, -1] += w0 * myb
+        return gU.ravel(), g_p, g_th + w0 * float(mth)
+
     def dense(self, U, p=None):
         c = coefficients(self.split(U))
         return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))

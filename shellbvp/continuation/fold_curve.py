@@ -1,0 +1,245 @@
+"""A fold as the solution of one system, with exact second derivatives: Newton on the
+minimally augmented fold system, the refinement ladder on it, and the fold curve in theta.
+
+Along a branch parametrised by the monitor m, the slope sigma = dp/dm is the last
+component of the solution of the bordered system of the monitor-prescribed Newton,
+
+    A [v; sigma] = [0; 1],    A = [[R_U, R_p], [m_U, 0]]
+
+(:func:`shellbvp.continuation.newton.tangent`). A simple fold is a regular solution of the
+minimally augmented system (Govaerts, *Numerical methods for bifurcations of dynamical
+equilibria*, SIAM 2000, ch. 4; bordered here by R_p and m_U)
+
+    R(U, p) = 0,    sigma(U, p) = 0,
+
+whose last row needs the derivatives of sigma: with [w; w_m] the solution of
+A^T [w; w_m] = [0; 1], d sigma/dz = -[w; w_m] . (dA/dz) [v; sigma], the gradient in z of the
+second directional derivative d/de [w . R(U + e v, p + e sigma) + w_m m(U + e v)]. The
+discrete systems give it exactly (``curvature_terms``: JAX second derivatives along the
+inner constitutive root; no finite differences). The Newton matrix is A with its last row
+replaced by (sigma_U, sigma_p): a rank-one change of A, solved with A's factors
+(Sherman-Morrison), whose pivot sigma_U . v + sigma_p sigma is d2p/dm2, nonzero at a simple
+fold. Newton converges quadratically to the fold of the discrete system, so a fold costs a
+few evaluations where locating dp/dm = 0 along the branch (:mod:`.folds`) costs a solve per
+secant step.
+
+With theta free and the monitor prescribed, (R, sigma, m - m*) = 0 is a point of the fold
+curve in (theta, p): :func:`fold_at_monitor`. For a cap, the fold curve's end at w = H
+(kappa = 1) is the cusp where the snap is born (the onset).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..errors import ConvergenceError
+from ..results import Fold
+from .newton import ROUND_OFF_STEP, bordered_lu
+from .options import ContinuationOptions
+
+__all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
+
+#: relative update at which the fold Newton stops (as the branch Newton of a fold), or
+#: that its predicted next update is below
+FOLD_STEP_TOL = 1e-10
+#: bound on the quadratic-convergence constant C (next update ~ C update^2) before two
+#: updates measure it
+CONTRACTION_BOUND = 100.0
+#: the predicted next update at which the iteration stops, as a fraction of the tolerance
+#: (the prediction C step^2 is good to a factor of a few, not to digits)
+PREDICTED_FRACTION = 0.01
+FOLD_MAXITER = 12
+
+
+def fold_system_terms(system, U, p, *, theta=False):
+    """Everything the fold system needs at (U, p): (R, R_U, R_p, m, m_U, the factors of A, v,
+    sigma = dp/dm, sigma_U, sigma_p) and, with ``theta``, (sigma_theta, R_theta, m_theta)
+    appended (the derivatives in the scene's theta, :meth:`parameter_derivatives`)."""
+    R, J, Rp = system.evaluate(U, p)
+    m, gm = system.monitor(U)
+    if not (np.all(np.isfinite(R)) and np.all(np.isfinite(Rp))):
+        raise ConvergenceError("fold system: non-finite residual")
+    try:
+        factor = bordered_lu(J, Rp, gm, 0.0)
+    except np.linalg.LinAlgError:
+        raise ConvergenceError("fold system: the bordered matrix is singular (the monitor is "
+                               "not a coordinate of the branch here)") from None
+    e = np.zeros(U.size + 1)
+    e[-1] = 1.0
+    x = factor.solve(e)
+    w = factor.solve_transposed(e)
+    gU, gp, gth = system.curvature_terms(U, p, w, x[:-1], x[-1])
+    out = (R, J, Rp, m, gm, factor, x[:-1], float(x[-1]), -gU, -gp)
+    if theta:
+        dR, dm = system.parameter_derivatives(U, p)["theta"]
+        out += (-gth, dR, float(dm))
+    return out
+
+
+def _step_size(d, U, p):
+    return max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
+               abs(d[-1]) / (1.0 + abs(p)))
+
+
+def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_MAXITER,
+               index: int = -1) -> Fold:
+    """The fold of ``system`` near (U, p): Newton on (R, sigma) = 0 (module docstring).
+
+    Converged when the update is below ``tol`` relative to the unknowns (or, as for the
+    branch Newton, when it stalls twice below the round-off floor; ``stats["round_off"]``
+    is then the last update of p). ``stats["curvature"]`` is d2p/dm2 there. Raises
+    ConvergenceError if the iteration fails (a singular bordered matrix, a pivot
+    d2p/dm2 = 0, growing updates, an inner solve that fails, or ``maxiter``).
+    """
+    t0 = time.perf_counter()
+    U = np.array(U, dtype=float)
+    p = float(p)
+    history, floor_hits, noise, left = [], 0, 0.0, math.inf
+    for it in range(1, maxiter + 1):
+        R, _, Rp, m, gm, factor, v, sigma, sU, sp = fold_system_terms(system, U, p)
+        x = np.append(v, sigma)
+        rho = np.append(sU - gm, sp)
+        pivot = 1.0 + rho @ x                      # = sigma_U . v + sigma_p sigma = d2p/dm2
+        if not (math.isfinite(pivot) and pivot != 0.0):
+            raise ConvergenceError(f"fold system: d2p/dm2 = {pivot} at p = {p:.10g} (not a "
+                                   f"simple fold)")
+        z = factor.solve(np.append(R, sigma))
+        d = z - x * (rho @ z) / pivot
+        U -= d[:-1]
+        p -= d[-1]
+        step = _step_size(d, U, p)
+        history.append((float(np.max(np.abs(R))), abs(sigma), step))
+        if not math.isfinite(step):
+            break
+        # quadratic convergence: the error left after this update is ~ C step^2 (C from the
+        # last two updates, CONTRACTION_BOUND before): stop when that is below tol, which
+        # saves the solve that would only confirm it (a transferred fold on a finer rung,
+        # ~1e-9 from its root, takes one step)
+        c = step / history[-2][2] ** 2 if it >= 2 and history[-2][2] > 0 \
+            else CONTRACTION_BOUND
+        left = min(c, CONTRACTION_BOUND) * step**2      # the predicted next update
+        if step <= tol or left <= PREDICTED_FRACTION * tol:
+            break
+        if it >= 2 and step > 0.5 * history[-2][2]:
+            if step <= ROUND_OFF_STEP:
+                floor_hits += 1
+                if floor_hits >= 2:
+                    noise = abs(d[-1])
+                    break
+                continue
+            if it >= 3 and step > history[-2][2] > history[-3][2]:
+                raise ConvergenceError(f"fold system: Newton diverges near p = {p:.10g} "
+                                       f"(updates {[f'{h[2]:.1e}' for h in history]})")
+        floor_hits = 0
+    else:
+        raise ConvergenceError(f"fold system: no convergence in {maxiter} Newton steps near "
+                               f"p = {p:.10g} (updates {[f'{h[2]:.1e}' for h in history]})")
+    if not math.isfinite(step):
+        raise ConvergenceError(f"fold system: non-finite update near p = {p:.10g}")
+    m, _ = system.monitor(U)
+    return Fold(p=float(p), monitor=float(m), U=U, system=system, index=index,
+                stats=dict(solves=1, newton_iterations=it, curvature=float(pivot),
+                           round_off=noise, location=min(left, step) * (1.0 + abs(p)),
+                           history=history,
+                           wall_time=time.perf_counter() - t0))
+
+
+def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOptions(),
+                index: int = -1, t0: float | None = None) -> Fold:
+    """A fold known approximately on ``system`` (state U, parameter p), to
+    ``options.fold_tol``: :func:`solve_fold` on the first rung the tolerance needs
+    (``system.at_tolerance``), then on its refinement, and so on, until p changes by at
+    most ``fold_tol`` from one rung to the next. As in :func:`shellbvp.continuation.ladder`
+    the change (at least the round-off of the Newton floor and of the problem,
+    ``bvp.round_off``), plus the error in p the finer rung's last Newton update may have
+    left (``stats["location"]``, its quadratic prediction), is the error estimate and the
+    finer fold is returned. ConvergenceError if the round-off exceeds ``fold_tol`` or after
+    ``options.max_refinements`` rungs."""
+    t0 = time.perf_counter() if t0 is None else t0
+    first = system.at_tolerance(options.fold_tol) if hasattr(system, "at_tolerance") \
+        else system
+    current = solve_fold(first, system.transfer(U, p, first), p, index=index)
+    iterations = current.stats["newton_iterations"]
+    change = math.nan
+    for k in range(1, options.max_refinements + 1):
+        try:
+            finer = current.system.refined()
+        except ValueError as exc:
+            raise ConvergenceError(
+                f"fold near {current.p:.10g}: not converged to fold_tol = "
+                f"{options.fold_tol:g} ({exc}; last change {change:.2e})") from None
+        fine = solve_fold(finer, current.system.transfer(current.U, current.p, finer),
+                          current.p, index=index)
+        iterations += fine.stats["newton_iterations"]
+        change = abs(fine.p - current.p)
+        if change <= options.fold_tol:
+            noise = max(current.stats["round_off"], fine.stats["round_off"],
+                        fine.system.bvp.round_off(fine.p)
+                        if hasattr(fine.system.bvp, "round_off") else 0.0)
+            if noise > options.fold_tol:
+                raise ConvergenceError(
+                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
+                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g}; ask for a "
+                    f"tolerance >= {noise:.0e}", round_off=True)
+            # plus the error in p the last Newton update may have left (its prediction)
+            estimate = max(change, noise) + fine.stats["location"]
+            return fine.with_estimate(
+                estimate, index=index,
+                stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
+                           resolution=finer.describe(), solves=k + 1,
+                           newton_iterations=iterations, error_estimate=estimate,
+                           round_off=noise, curvature=fine.stats["curvature"],
+                           fold_system=True, wall_time=time.perf_counter() - t0))
+        current = fine
+    raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
+                           f"{options.fold_tol:g} after {options.max_refinements} refinements "
+                           f"(last change {change:.2e})")
+
+
+def fold_at_monitor(system, U, p, theta, monitor, at_theta, *, tol: float = FOLD_STEP_TOL,
+                    maxiter: int = FOLD_MAXITER):
+    """The point of the fold curve in (theta, p) where the monitor equals ``monitor``:
+    Newton on (R, sigma, m - monitor) = 0 in (U, p, theta), from the state U, p of
+    ``system`` (the scene at ``theta``). ``at_theta(t)`` gives the same discretisation of
+    the scene at theta = t (the unknowns keep their piece coordinates). The theta column
+    is exact (:meth:`parameter_derivatives` and the theta component of
+    ``curvature_terms``). Returns (system, U, p, theta, iterations) at the solution;
+    ConvergenceError if the iteration fails."""
+    U = np.array(U, dtype=float)
+    p, theta = float(p), float(theta)
+    history = []
+    for it in range(1, maxiter + 1):
+        R, J, Rp, m, gm, factor, v, sigma, sU, sp, sth, Rth, mth = fold_system_terms(
+            system, U, p, theta=True)
+        n = U.size
+        A = np.zeros((n + 2, n + 2))
+        A[:n, :n] = _dense(J)
+        A[:n, n], A[:n, n + 1] = Rp, Rth
+        A[n, :n], A[n, n], A[n, n + 1] = sU, sp, sth
+        A[n + 1, :n], A[n + 1, n + 1] = gm, mth
+        try:
+            d = np.linalg.solve(A, np.concatenate([R, [sigma, m - monitor]]))
+        except np.linalg.LinAlgError:
+            raise ConvergenceError("fold curve: singular Jacobian (theta is not a "
+                                   "coordinate of the fold curve here)") from None
+        U -= d[:n]
+        p -= d[n]
+        theta -= d[n + 1]
+        system = at_theta(theta)
+        step = max(_step_size(d[:n + 1], U, p), abs(d[n + 1]) / (1.0 + abs(theta)))
+        history.append(step)
+        if not math.isfinite(step):
+            break
+        if step <= tol:
+            return system, U, p, theta, it
+        if it >= 3 and history[-1] > history[-2] > history[-3]:
+            break
+    raise ConvergenceError(f"fold curve: no convergence at monitor {monitor:g} (updates "
+                           f"{[f'{h:.1e}' for h in history]})")
+
+
+def _dense(J):
+    return J.toarray() if hasattr(J, "toarray") else J
