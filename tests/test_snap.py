@@ -17,8 +17,9 @@ def onset():
 
 
 def test_onset_is_a_cusp_at_the_flat_state(onset):
-    """At the onset T_c the slope dkappa/dw at the flat state vanishes (root to 1e-6 in T,
-    N and N + 8 agree); just below it is positive, just above negative."""
+    """At the onset T_c (the cusp of the fold curve) the slope dkappa/dw at the flat state
+    vanishes (to 1e-6 in T, the next degree agreeing); just below it is positive, just
+    above negative."""
     assert onset.error_estimate < 1e-5
     assert onset.bracket[0] < onset.T < onset.bracket[1]
     assert ce.flat_slope(onset.T - 0.01, H0) > 0 > ce.flat_slope(onset.T + 0.01, H0)
@@ -61,7 +62,7 @@ def test_collocation_branch_fold_is_a_maximum_of_kappa():
 
 def test_sweep_along_the_fold_curve_equals_independent_caps():
     """snap_curve finds the caps after the first snapping one from the folds before
-    (shellbvp.fold_near); the independent route is each cap continued from kappa = 0. Both
+    (shellbvp.fold_near: Newton on the fold system at that T); the independent route is each cap continued from kappa = 0. Both
     carry an error estimate that bounds their error, so they agree within the sum."""
     T = [4.0, 4.25, 4.75, 5.25]                   # steps of 0.25 and 0.5 in T
     out = ce.snap_curve(T, H0, 1.0, tol=1e-9, progress=False)

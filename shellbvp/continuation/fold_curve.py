@@ -74,7 +74,7 @@ def fold_system_terms(system, U, p, *, theta=False):
     gU, gp, gth = system.curvature_terms(U, p, w, x[:-1], x[-1])
     out = (R, J, Rp, m, gm, factor, x[:-1], float(x[-1]), -gU, -gp)
     if theta:
-        dR, dm = system.parameter_derivatives(U, p)["theta"]
+        dR, dm = system.parameter_derivatives(U, p, names=("theta",))["theta"]
         out += (-gth, dR, float(dm))
     return out
 
