@@ -266,16 +266,12 @@ def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_ste
     of T_step until the slope at the flat state (:func:`flat_slope`) turns negative (the
     first T that snaps), take the snap fold there (:func:`snap_curvature`) and follow the
     fold curve with the edge displacement w prescribed and T free
-    (:func:`shellbvp.continuation.fold_at_monitor`: Newton on equilibrium, dp/dm = 0 and
-    w, exact second derivatives) in steps of at most ``ONSET_STEP`` in w / H up to w = H,
-    where the fold curve ends in the cusp. Solved on the fold's finest degree and again on
+    (:func:`shellbvp.fold_curve_point`: Newton on equilibrium, dp/dm = 0 and w, exact
+    second derivatives) in steps of at most ``ONSET_STEP`` in w / H up to w = H, where the
+    fold curve ends in the cusp. Solved on the fold's finest degree and again on
     the next one (the change, plus ``tol``, is the error estimate). Raises ValueError if the
     slope is already negative at T_lo or stays positive up to T_max, and ConvergenceError
     if the fold curve cannot be followed to the cusp."""
-    from dataclasses import replace as _replace
-
-    from shellbvp.continuation import fold_at_monitor
-
     for name, v in (("T_lo", T_lo), ("T_step", T_step), ("T_max", T_max), ("tol", tol)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -296,23 +292,7 @@ def onset(h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, T_lo=1.0, T_ste
     if not snap.snaps:
         raise shellbvp.ConvergenceError(f"onset: the cap at T = {b:g} has a negative slope "
                                         f"at the flat state but no snap fold was found")
-    base = scene(b * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
-    fold = snap.fold
-
-    def at_theta(system):
-        return lambda th: system.on(shellbvp.ShellBVP(_replace(base, theta=th)))
-
-    system, U, p, theta = fold.system, fold.U, fold.p, base.theta
-    steps = max(1, math.ceil((1.0 - fold.monitor) / ONSET_STEP))
-    iterations = 0
-    for m in np.linspace(fold.monitor, 1.0, steps + 1)[1:]:
-        system, U, p, theta, its = fold_at_monitor(system, U, p, theta, m, at_theta(system))
-        iterations += its
-    finer = system.refined()
-    _, _, p2, theta2, its = fold_at_monitor(finer, system.transfer(U, p, finer), p, theta,
-                                             1.0, at_theta(finer))
-    T1, T2 = float(theta) / math.sqrt(h), float(theta2) / math.sqrt(h)
-    return Onset(T=T2, error_estimate=abs(T2 - T1) + tol, bracket=(a, b), h=h, lam=lam,
-                 model=model, material=material, kappa=float(p2),
-                 stats=dict(steps=steps, newton_iterations=iterations + its,
-                            nodes=finer.describe()["nodes"]))
+    cusp = shellbvp.fold_curve_point(snap.fold, 1.0, step=ONSET_STEP)
+    return Onset(T=cusp.theta / math.sqrt(h), error_estimate=cusp.error_estimate / math.sqrt(h)
+                 + tol, bracket=(a, b), h=h, lam=lam, model=model, material=material,
+                 kappa=cusp.p, stats=dict(cusp.stats, nodes=cusp.stats["resolution"]["nodes"]))

@@ -14,7 +14,8 @@ Methods (discretisations behind one protocol)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
     default_nodes, bracketing_nodes
 Solving and continuation
-    solve, follow, at_monitor, fold_near, fold_gradient, MonitorPoint, ContinuationOptions
+    solve, follow, at_monitor, fold_near, fold_curve_point, fold_gradient, MonitorPoint,
+    FoldCurvePoint, ContinuationOptions
 Stability
     second_variation, SecondVariation (the discrete second variation of the energy)
 Results
@@ -41,7 +42,8 @@ _WHERE = {
     "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
     "default_nodes": "methods.chebyshev", "bracketing_nodes": "methods.chebyshev",
     "solve": "driver", "follow": "driver", "at_monitor": "driver", "MonitorPoint": "driver",
-    "fold_near": "driver", "fold_gradient": "driver",
+    "fold_near": "driver", "fold_gradient": "driver", "fold_curve_point": "driver",
+    "FoldCurvePoint": "driver",
     "ContinuationOptions": "continuation",
     "Equilibrium": "results", "Branch": "results", "Fold": "results",
     "ConvergenceError": "errors",

@@ -13,12 +13,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bvp import ShellBVP, reference_state
-from .continuation import (ContinuationOptions, fold_ladder, fold_sensitivity, ladder, newton,
+from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fold_sensitivity,
+                           ladder, newton,
                            pseudo_arclength, refine_fold, tangent)
 from .errors import ConvergenceError
 from .methods import as_method
 from .ellipticity import elliptic_point, stall_reason
-from .results import Branch, Equilibrium, equilibrium_from, failed_equilibrium
+from .results import Branch, Equilibrium, Fold, equilibrium_from, failed_equilibrium
 from .scene import Scene
 
 __all__ = ["solve", "follow", "at_monitor", "fold_near", "fold_gradient", "MonitorPoint",
@@ -301,6 +302,64 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
     start = system.at_tolerance(options.fold_tol)
     return ladder(start, system.transfer(U, p0, start), p0, m0,
                   near.stats.get("curvature"), options=options)
+
+
+@dataclass(frozen=True)
+class FoldCurvePoint:
+    """A point of a fold curve in (theta, p) where the monitor takes a prescribed value.
+
+    ``theta``: the scene's opening angle there; ``p``: the fold's parameter; ``monitor``:
+    the prescribed w / H; ``error_estimate``: the change of theta with the next Chebyshev
+    degree; ``fold``: the fold (a :class:`Fold` of the scene at ``theta``, finer degree);
+    ``stats``: steps and Newton iterations."""
+
+    theta: float
+    p: float
+    monitor: float
+    error_estimate: float
+    fold: object = None
+    stats: dict = None
+
+
+def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePoint:
+    """Follow the fold curve of ``near`` (a :class:`Fold` found by the spectral method) in
+    (theta, p), with the monitor prescribed and theta free, from ``near.monitor`` to
+    ``monitor`` in steps of at most ``step`` (in w / H): Newton on (equilibrium, dp/dm = 0,
+    m - monitor) in (U, p, theta) (:func:`shellbvp.continuation.fold_at_monitor`, exact
+    derivatives), then the last point again on the next degree (its change in theta is the
+    error estimate). For a cap the fold curve ends at w = H (monitor 1) in the cusp where
+    the snap is born. Raises ValueError for a fold of another method or a non-finite or
+    non-positive step, ConvergenceError where the curve cannot be followed (e.g. past its
+    end, where the fold ceases to exist)."""
+    from dataclasses import replace
+
+    if not (hasattr(near, "system") and hasattr(near.system, "curvature_terms")):
+        raise ValueError("fold_curve_point needs a fold found by the spectral method")
+    if not (math.isfinite(monitor) and math.isfinite(step) and step > 0):
+        raise ValueError(f"monitor must be finite and step positive, got monitor={monitor!r}, "
+                         f"step={step!r}")
+    base = near.system.bvp.scene
+    eps = None if near.system.bvp.eps_per_theta else near.system.bvp.eps
+
+    def at_theta(system):
+        return lambda th: system.on(ShellBVP(replace(base, theta=float(th)), eps))
+
+    system, U, p, theta = near.system, near.U, near.p, base.theta
+    steps = max(1, math.ceil(abs(monitor - near.monitor) / step))
+    iterations = 0
+    for m in np.linspace(near.monitor, monitor, steps + 1)[1:]:
+        system, U, p, theta, its = fold_at_monitor(system, U, p, theta, m, at_theta(system))
+        iterations += its
+    finer = system.refined()
+    fine, U2, p2, theta2, its = fold_at_monitor(finer, system.transfer(U, p, finer), p, theta,
+                                                monitor, at_theta(finer))
+    m2, _ = fine.monitor(U2)
+    fold = Fold(p=float(p2), monitor=float(m2), U=U2, system=fine,
+                error_estimate=abs(float(p2) - float(p)))
+    return FoldCurvePoint(theta=float(theta2), p=float(p2), monitor=float(monitor),
+                          error_estimate=abs(float(theta2) - float(theta)), fold=fold,
+                          stats=dict(steps=steps, newton_iterations=iterations + its,
+                                     resolution=fine.describe()))
 
 
 def fold_gradient(fold) -> dict:

@@ -109,3 +109,13 @@ def test_onset_is_the_cusp_of_the_fold_curve():
     assert abs(o.T - T_brent) <= 1e-8, (o.T, T_brent)
     assert abs(o.kappa - 1.0) <= 1e-9
     assert o.error_estimate < 1e-5
+
+
+def test_fold_curve_point_rejects_bad_input(fold):
+    with pytest.raises(ValueError, match="step"):
+        shellbvp.fold_curve_point(fold, 1.0, step=0.0)
+    with pytest.raises(ValueError, match="monitor"):
+        shellbvp.fold_curve_point(fold, math.nan)
+    branch_fold = ce.snap_curvature(0.4, H0, 1.0, method=shellbvp.Shooting(), tol=1e-6).fold
+    with pytest.raises(ValueError, match="spectral"):
+        shellbvp.fold_curve_point(branch_fold, 1.0)
