@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..results import Fold
+from .folds import climb
 from .newton import ROUND_OFF_STEP, bordered_lu
 from .options import ContinuationOptions
 
@@ -162,41 +163,14 @@ def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOpti
     first = system.at_tolerance(options.fold_tol) if hasattr(system, "at_tolerance") \
         else system
     current = solve_fold(first, system.transfer(U, p, first), p, index=index)
-    iterations = current.stats["newton_iterations"]
-    change = math.nan
-    for k in range(1, options.max_refinements + 1):
-        try:
-            finer = current.system.refined()
-        except ValueError as exc:
-            raise ConvergenceError(
-                f"fold near {current.p:.10g}: not converged to fold_tol = "
-                f"{options.fold_tol:g} ({exc}; last change {change:.2e})") from None
-        fine = solve_fold(finer, current.system.transfer(current.U, current.p, finer),
+
+    def advance(finer, current):
+        return solve_fold(finer, current.system.transfer(current.U, current.p, finer),
                           current.p, index=index)
-        iterations += fine.stats["newton_iterations"]
-        change = abs(fine.p - current.p)
-        if change <= options.fold_tol:
-            noise = max(current.stats["round_off"], fine.stats["round_off"],
-                        fine.system.bvp.round_off(fine.p)
-                        if hasattr(fine.system.bvp, "round_off") else 0.0)
-            if noise > options.fold_tol:
-                raise ConvergenceError(
-                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
-                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g}; ask for a "
-                    f"tolerance >= {noise:.0e}", round_off=True)
-            # plus the error in p the last Newton update may have left (its prediction)
-            estimate = max(change, noise) + fine.stats["location"]
-            return fine.with_estimate(
-                estimate, index=index,
-                stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
-                           resolution=finer.describe(), solves=k + 1,
-                           newton_iterations=iterations, error_estimate=estimate,
-                           round_off=noise, curvature=fine.stats["curvature"],
-                           fold_system=True, wall_time=time.perf_counter() - t0))
-        current = fine
-    raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
-                           f"{options.fold_tol:g} after {options.max_refinements} refinements "
-                           f"(last change {change:.2e})")
+
+    # the error in p the last Newton update may have left (its prediction) counts once
+    return climb(system, first, current, advance, options=options, index=index, t0=t0,
+                 location_weight=1.0, fold_system=True)
 
 
 def fold_at_monitor(system, U, p, theta, monitor, at_theta, *, tol: float = FOLD_STEP_TOL,

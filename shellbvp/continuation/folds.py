@@ -21,7 +21,7 @@ from ..results import Fold
 from .newton import bordered_lu, newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "bracket_estimate",
+__all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "climb", "bracket_estimate",
            "fold_sensitivity"]
 
 #: Newton tolerance and monitor tolerance of a fold that is returned to the user
@@ -283,6 +283,30 @@ def ladder(system, U, p, monitor, curvature=None, *,
     m_tol = max(FOLD_MONITOR_TOL, options.fold_tol / 10)
     current = polish_fold(first, system.transfer(U, p, first), p, monitor,
                           curvature=curvature, monitor_tol=m_tol)
+
+    def advance(finer, current):
+        return polish_fold(finer, current.system.transfer(current.U, current.p, finer),
+                           current.p, current.monitor, monitor_tol=m_tol,
+                           curvature=current.stats["curvature"])
+
+    # the rungs share the monitor the fold was located at (the finer one starts there and
+    # stops when its predicted move is below the monitor tolerance), so the change between
+    # them does not see that location error either: add it, twice its quadratic-model value
+    # (c is a secant estimate and p(m) not exactly a parabola: on a thin cap at tol 1e-4 the
+    # model gave 5.96e-9 for an error of 6.06e-9)
+    return climb(system, first, current, advance, options=options, index=index, t0=t0,
+                 location_weight=2.0)
+
+
+def climb(coarse, first, current, advance, *, options: ContinuationOptions, index: int,
+          t0: float, location_weight: float, **stats) -> Fold:
+    """The refinement ladder from the fold ``current`` on the rung ``first``: the fold on
+    each next rung (``advance(finer, current)``) until p changes by at most
+    ``options.fold_tol``. The estimate of the finer fold is that change, at least the
+    round-off (of a Newton solve stalled at its floor, ``stats["round_off"]`` of either
+    rung, and the problem's own, ``bvp.round_off``), plus ``location_weight`` times the
+    error in p its location left (``stats["location"]``); ConvergenceError where the
+    round-off exceeds fold_tol, the degree cannot grow, or after ``max_refinements``."""
     solves, iterations = current.stats["solves"], current.stats["newton_iterations"]
     change = math.nan
     for k in range(1, options.max_refinements + 1):
@@ -292,9 +316,7 @@ def ladder(system, U, p, monitor, curvature=None, *,
             raise ConvergenceError(
                 f"fold near {current.p:.10g}: not converged to fold_tol = "
                 f"{options.fold_tol:g} ({exc}; last change {change:.2e})") from None
-        fine = polish_fold(finer, current.system.transfer(current.U, current.p, finer),
-                           current.p, current.monitor, monitor_tol=m_tol,
-                           curvature=current.stats["curvature"])
+        fine = advance(finer, current)
         solves += fine.stats["solves"]
         iterations += fine.stats["newton_iterations"]
         change = abs(fine.p - current.p)
@@ -311,21 +333,14 @@ def ladder(system, U, p, monitor, curvature=None, *,
                     f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
                     f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
                     f"or stiff shell); ask for a tolerance >= {noise:.0e}", round_off=True)
-            # the rungs share the monitor the fold was located at (the finer one starts there
-            # and stops when its predicted move is below the monitor tolerance), so the
-            # change between them does not see that location error either: add it, twice
-            # its quadratic-model value (c is a secant estimate and p(m) not exactly a
-            # parabola: on a thin cap at tol 1e-4 the model gave 5.96e-9 for an error of
-            # 6.06e-9)
-            estimate = max(change, noise) + 2.0 * fine.stats["location"]
+            estimate = max(change, noise) + location_weight * fine.stats["location"]
             return fine.with_estimate(
                 estimate, index=index,
-                stats=dict(coarse=system.describe(), first=first.describe(), refinements=k,
+                stats=dict(coarse=coarse.describe(), first=first.describe(), refinements=k,
                            resolution=finer.describe(), solves=solves,
                            newton_iterations=iterations, error_estimate=estimate,
-                           round_off=noise,
-                           curvature=fine.stats["curvature"],
-                           wall_time=time.perf_counter() - t0))
+                           round_off=noise, curvature=fine.stats["curvature"],
+                           wall_time=time.perf_counter() - t0, **stats))
         current = fine
     raise ConvergenceError(f"fold near {current.p:.10g}: not converged to fold_tol = "
                            f"{options.fold_tol:g} after {options.max_refinements} refinements "
