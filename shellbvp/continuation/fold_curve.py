@@ -46,19 +46,22 @@ __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
 #: relative update at which the fold Newton stops (as the branch Newton of a fold), or
 #: that its predicted next update is below
 FOLD_STEP_TOL = 1e-10
-#: bound on the quadratic-convergence constant C (next update ~ C update^2) before two
-#: updates measure it
+#: bound on the quadratic-convergence constant C (next update ~ C update^2) measured from
+#: the last two updates
 CONTRACTION_BOUND = 100.0
+#: the update below which the fold Newton keeps the gradient of dp/dm of the last iterate
+REUSE_STEP = 1e-6
 #: the predicted next update at which the iteration stops, as a fraction of the tolerance
 #: (the prediction C step^2 is good to a factor of a few, not to digits)
 PREDICTED_FRACTION = 0.01
 FOLD_MAXITER = 12
 
 
-def fold_system_terms(system, U, p, *, theta=False):
+def fold_system_terms(system, U, p, *, theta=False, curvature=True):
     """Everything the fold system needs at (U, p): (R, R_U, R_p, m, m_U, the factors of A, v,
     sigma = dp/dm, sigma_U, sigma_p) and, with ``theta``, (sigma_theta, R_theta, m_theta)
-    appended (the derivatives in the scene's theta, :meth:`parameter_derivatives`)."""
+    appended (the derivatives in the scene's theta, :meth:`parameter_derivatives`). Without
+    ``curvature``, sigma_U and sigma_p are None (no second derivatives taken)."""
     R, J, Rp = system.evaluate(U, p)
     m, gm = system.monitor(U)
     if not (np.all(np.isfinite(R)) and np.all(np.isfinite(Rp))):
@@ -71,6 +74,8 @@ def fold_system_terms(system, U, p, *, theta=False):
     e = np.zeros(U.size + 1)
     e[-1] = 1.0
     x = factor.solve(e)
+    if not curvature:
+        return (R, J, Rp, m, gm, factor, x[:-1], float(x[-1]), None, None)
     w = factor.solve_transposed(e)
     gU, gp, gth = system.curvature_terms(U, p, w, x[:-1], x[-1])
     out = (R, J, Rp, m, gm, factor, x[:-1], float(x[-1]), -gU, -gp)
@@ -100,7 +105,15 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
     p = float(p)
     history, floor_hits, noise, left = [], 0, 0.0, math.inf
     for it in range(1, maxiter + 1):
-        R, _, Rp, m, gm, factor, v, sigma, sU, sp = fold_system_terms(system, U, p)
+        # after an update below REUSE_STEP the last gradient of sigma is kept: it changes
+        # by O(update), so the next update is off by O(update^2) at most, below the
+        # quadratic convergence's own error (it saves the second derivatives on the
+        # confirming iteration of a finer rung)
+        reuse = it >= 2 and history[-1][2] <= REUSE_STEP
+        R, _, Rp, m, gm, factor, v, sigma, sU_new, sp_new = fold_system_terms(
+            system, U, p, curvature=not reuse)
+        if not reuse:
+            sU, sp = sU_new, sp_new
         x = np.append(v, sigma)
         rho = np.append(sU - gm, sp)
         pivot = 1.0 + rho @ x                      # = sigma_U . v + sigma_p sigma = d2p/dm2
@@ -115,13 +128,14 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         history.append((float(np.max(np.abs(R))), abs(sigma), step))
         if not math.isfinite(step):
             break
-        # quadratic convergence: the error left after this update is ~ C step^2 (C from the
-        # last two updates, CONTRACTION_BOUND before): stop when that is below tol, which
-        # saves the solve that would only confirm it (a transferred fold on a finer rung,
-        # ~1e-9 from its root, takes one step)
-        c = step / history[-2][2] ** 2 if it >= 2 and history[-2][2] > 0 \
-            else CONTRACTION_BOUND
-        left = min(c, CONTRACTION_BOUND) * step**2      # the predicted next update
+        # quadratic convergence: the error left after this update is ~ C step^2, C from the
+        # last two updates: stop when that is below tol, which saves the solve that would
+        # only confirm it. Never after the first update: its Jacobian may be inexact (the
+        # inner roots of a state carried from another degree start cold, and the last
+        # inner iterate, where the Jacobian is taken, can be 1e-5 from the root), and one
+        # step then left 1.2e-11 in kappa where C = 100 predicted 1e-14
+        left = min(step / history[-2][2] ** 2, CONTRACTION_BOUND) * step**2 \
+            if it >= 2 and history[-2][2] > 0 else math.inf     # the predicted next update
         if step <= tol or left <= PREDICTED_FRACTION * tol:
             break
         if it >= 2 and step > 0.5 * history[-2][2]:
