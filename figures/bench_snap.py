@@ -48,7 +48,7 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from _common import HERE, finish, parser, pyplot, write_csv  # noqa: E402
+from _common import finish, parser, pyplot, write_csv  # noqa: E402
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 MODELS = ("relaxed", "plane_strain")

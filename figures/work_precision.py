@@ -32,7 +32,7 @@ import math
 import statistics
 import time
 
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import finish, parser, pyplot, write_csv
 
 THETA = math.pi / 6
 #: the caps and the tolerance of their references (the finest their round-off floor,

@@ -204,9 +204,10 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
 def _along_fold_curve(T, folds, h, lam, model, material, nu, tol):
     """kappa_s at shallowness T from the snap folds at the previous one to three T of a
     sweep (:func:`shellbvp.fold_near`: Newton on the fold system, started from the
-    extrapolation of the folds' states and kappa in T along the fold curve), or None where that does not find the snap fold (then the sweep
-    continues the cap from kappa = 0): a fold that is not the first one (w >= H, the mirror
-    fold past the flat state) or a failure, e.g. next to the onset cusp."""
+    extrapolation of the folds' states and kappa in T along the fold curve), or None where
+    that does not find the snap fold (then the sweep continues the cap from kappa = 0): a
+    fold that is not the first one (w >= H, the mirror fold past the flat state) or a
+    failure, e.g. next to the onset cusp."""
     (T1, f1) = folds[-1]
     # Lagrange weights of the extrapolation to T through the previous folds' T
     Ts = [Tk for Tk, _ in folds]

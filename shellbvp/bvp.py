@@ -681,8 +681,9 @@ class ShellBVP:
         for phi = Wn . f at every node (weights Wn (P, 6, m)) plus wb . (pole rows) at the
         first node (the pole, s = eps), the derivative of phi along (V (P, 6, m), dp) and
         that of its gradient in (y, p, s), exact (no finite differences): (dphi (P, m, 2),
-        the parts wn . f and wb . (pole rows), dgrad_y (P, 6, m), dgrad_p (P, m), dgrad_s (P, m)). ``hint``: the BVP's nodal
-        result at exactly these states (its roots and their derivatives), else computed."""
+        the parts wn . f and wb . (pole rows); dgrad_y (P, 6, m); dgrad_p (P, m); dgrad_s
+        (P, m)). ``hint``: the BVP's nodal result at exactly these states (its roots and
+        their derivatives), else computed."""
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
         P, m = s.shape
         if not (isinstance(hint, _Hint) and hint.q.shape == (P * m, 2) and hint.p == p

@@ -136,11 +136,14 @@ def point_functions(model, material, rhob1, metric):
 
     Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
     ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF,
-    converged, q, [dq/dy, dq/dF . dF]): the right-hand side, its Jacobian and its derivative along a change dF of the fields (df/dp when
-    dF = dF/dp), all by implicit differentiation of G = 0; ``q_init`` warm-starts the inner
-    Newton. ``root`` is the inner Newton itself; ``q_linear`` and ``f_linear`` give the root
-    and f as functions of (y, s, F, lam, h) exact to first order (their JAX derivatives are
-    the implicit ones), for derivatives in the scene's geometry and material.
+    converged, q, [dq/dy, dq/dF . dF]): the right-hand side, its Jacobian and its
+    derivative along a change dF of the fields (df/dp when dF = dF/dp), all by implicit
+    differentiation of G = 0; ``q_init`` warm-starts the inner Newton. ``root`` is the inner
+    Newton itself; ``q_linear`` and ``f_linear`` give the root and f as functions of
+    (y, s, F, lam, h) exact to first order (their JAX derivatives are the implicit ones), for
+    derivatives in the scene's geometry and material; ``f`` is f at a given q;
+    ``implicit_gradient`` the gradient of a function along the root, and ``curvature`` its
+    second derivatives (for the fold system).
     """
     Wf = _energy_jax(model, material, float(rhob1))
     el = _el_jax(bool(metric))
@@ -155,7 +158,8 @@ def point_functions(model, material, rhob1, metric):
         direction t = (v, dp, 0) in x (q_root the root at x, dq its derivative in (y, p)
         from :func:`rhs_jac`), the derivative along t of phi(fns, y, q, s, F) (F = fields(s, p)
         the five fields, q the root; ``fns`` the functions below, to be used by phi; phi may
-        return several parts, each differentiated) and of the gradient of their sum in x, exact (``implicit_gradient`` differentiated once more).
+        return several parts, each differentiated) and of the gradient of their sum in x,
+        exact (``implicit_gradient`` differentiated once more).
 
         The third derivatives of W this takes are those along the direction a in
         Z = (lam1, lam2, k1, k2, kb1, kb2) that t moves the state in: W is replaced by its

@@ -14,7 +14,7 @@ Euler-Lagrange equations without g terms.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np

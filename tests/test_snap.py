@@ -62,8 +62,9 @@ def test_collocation_branch_fold_is_a_maximum_of_kappa():
 
 def test_sweep_along_the_fold_curve_equals_independent_caps():
     """snap_curve finds the caps after the first snapping one from the folds before
-    (shellbvp.fold_near: Newton on the fold system at that T); the independent route is each cap continued from kappa = 0. Both
-    carry an error estimate that bounds their error, so they agree within the sum."""
+    (shellbvp.fold_near: Newton on the fold system at that T); the independent route is
+    each cap continued from kappa = 0. Both carry an error estimate that bounds their
+    error, so they agree within the sum."""
     T = [4.0, 4.25, 4.75, 5.25]                   # steps of 0.25 and 0.5 in T
     out = ce.snap_curve(T, H0, 1.0, tol=1e-9, progress=False)
     assert out["snaps"].all()

@@ -54,6 +54,7 @@ REUSE_STEP = 1e-6
 #: the predicted next update at which the iteration stops, as a fraction of the tolerance
 #: (the prediction C step^2 is good to a factor of a few, not to digits)
 PREDICTED_FRACTION = 0.01
+#: at most this many fold Newton iterations (from a seed of a sweep it takes 2-3)
 FOLD_MAXITER = 12
 
 
@@ -61,7 +62,8 @@ def fold_system_terms(system, U, p, *, theta=False, curvature=True):
     """Everything the fold system needs at (U, p): (R, R_U, R_p, m, m_U, the factors of A, v,
     sigma = dp/dm, sigma_U, sigma_p) and, with ``theta``, (sigma_theta, R_theta, m_theta)
     appended (the derivatives in the scene's theta, :meth:`parameter_derivatives`). Without
-    ``curvature``, sigma_U and sigma_p are None (no second derivatives taken)."""
+    ``curvature``, sigma_U and sigma_p are None (no second derivatives taken, and ``theta``
+    is ignored)."""
     R, J, Rp = system.evaluate(U, p)
     m, gm = system.monitor(U)
     if not (np.all(np.isfinite(R)) and np.all(np.isfinite(Rp))):

@@ -95,8 +95,6 @@ def _compiled(vector_field, adaptive):
 
     from ..jaxsetup import jax
 
-    import jax.numpy as jnp
-
     def solve_segment(piece, y0, s0, s1, p, lam, h, tol, saveat):
         # ``tol`` is the PID tolerance (adaptive) or the number of fixed steps (not adaptive);
         # both are traced, so changing them does not recompile.
