@@ -96,9 +96,10 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
                index: int = -1) -> Fold:
     """The fold of ``system`` near (U, p): Newton on (R, sigma) = 0 (module docstring).
 
-    Converged when the update is below ``tol`` relative to the unknowns (or, as for the
-    branch Newton, when it stalls twice below the round-off floor; ``stats["round_off"]``
-    is then the last update of p). ``stats["curvature"]`` is d2p/dm2 there. Raises
+    Converged, after at least two updates, when the update or its quadratic prediction of
+    the next is below ``tol`` relative to the unknowns (``stats["location"]``: the error in
+    p that prediction leaves), or, as for the branch Newton, when it stalls twice below the
+    round-off floor (``stats["round_off"]`` is then the last update of p). ``stats["curvature"]`` is d2p/dm2 there. Raises
     ConvergenceError if the iteration fails (a singular bordered matrix, a pivot
     d2p/dm2 = 0, growing updates, an inner solve that fails, or ``maxiter``).
     """
@@ -131,14 +132,14 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         if not math.isfinite(step):
             break
         # quadratic convergence: the error left after this update is ~ C step^2, C from the
-        # last two updates: stop when that is below tol, which saves the solve that would
-        # only confirm it. Never after the first update: its Jacobian may be inexact (the
-        # inner roots of a state carried from another degree start cold, and the last
-        # inner iterate, where the Jacobian is taken, can be 1e-5 from the root), and one
-        # step then left 1.2e-11 in kappa where C = 100 predicted 1e-14
+        # last two updates: stop when that (or the update) is below tol, which saves the
+        # solve that would only confirm it. Never after the first update: its Jacobian may
+        # be inexact (the inner roots of a state carried from another degree start cold,
+        # and the last inner iterate, where the Jacobian is taken, can be 1e-5 from the
+        # root), and one step then left 1.2e-11 in kappa where C = 100 predicted 1e-14
         left = min(step / history[-2][2] ** 2, CONTRACTION_BOUND) * step**2 \
             if it >= 2 and history[-2][2] > 0 else math.inf     # the predicted next update
-        if step <= tol or left <= PREDICTED_FRACTION * tol:
+        if it >= 2 and (step <= tol or left <= PREDICTED_FRACTION * tol):
             break
         if it >= 2 and step > 0.5 * history[-2][2]:
             if step <= ROUND_OFF_STEP:
