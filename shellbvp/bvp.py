@@ -490,28 +490,32 @@ class ShellBVP:
         return self.scene.material_parameter
 
     # --- nodal functions ----------------------------------------------------------------------
-    def _layout(self, P, m):
-        """Per node count: the piece of every flattened node and the padded chunks."""
-        key = (P, m)
+    def _layout(self, P, m, size=None):
+        """Per node count: the piece of every flattened node and the padded chunks (of the
+        size :func:`_chunk` picks, or of ``size``)."""
+        key = (P, m, size)
         if key not in self._layouts:
             n = P * m
-            size = _chunk(n)
+            size = _chunk(n) if size is None else size
             chunks = [(start, min(start + size, n),
                        np.minimum(np.arange(start, start + size), min(start + size, n) - 1))
                       for start in range(0, n, size)]          # padded with the last node
             self._layouts[key] = (np.repeat(np.arange(P), m), chunks)
         return self._layouts[key]
 
-    def _flat(self, name, s, Y, p, extra=()):
-        """Call kernel ``name`` on every node of s (P, m), Y (P, 6, m), in padded chunks."""
+    def _flat(self, name, s, Y, p, extra=(), *, scalars=(), chunk=None):
+        """Call kernel ``name`` on every node of s (P, m), Y (P, 6, m), in padded chunks
+        (of size ``chunk`` if given), with per-node ``extra`` arrays and trailing
+        ``scalars``."""
         P, m = s.shape
-        piece, chunks = self._layout(P, m)
+        piece, chunks = self._layout(P, m, chunk)
         sf = s.reshape(-1)
         yf = _flat_nodes(Y)
         kernel = self._k[name]
         handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
                                    self.material_parameter, self.scene.h,
-                                   *[e[idx] for e in extra]) for _, _, idx in chunks]
+                                   *[e[idx] for e in extra], *scalars)
+                   for _, _, idx in chunks]
         outs = [[np.asarray(o)[: stop - start] for o in kernel.collect(hd)]
                 for (start, stop, _), hd in zip(chunks, handles)]
         return [np.concatenate(parts) for parts in zip(*outs)]
@@ -691,31 +695,16 @@ class ShellBVP:
             hint = self.rhs(s, Y, p, hint).hint
         WB = np.zeros((P * m, 3))
         WB[0] = wb
-        out = self._flat_fold(s, Y, p, (hint.q, hint.dq, _flat_nodes(Wn), WB, _flat_nodes(V)),
-                              dp)
+        # chunks of one size, FOLD_CHUNK: every resolution runs on one compiled program
+        # (~13 s to compile for a relaxed energy, against ~0.1 ms per extra chunk)
+        out = self._flat("fold_nodal", s, Y, p,
+                         (hint.q, hint.dq, _flat_nodes(Wn), WB, _flat_nodes(V)),
+                         scalars=(float(dp),), chunk=FOLD_CHUNK)
         dphi, dgy, dgp, dgs = out
         if not all(np.all(np.isfinite(o)) for o in out):
             raise ConvergenceError("fold system: second derivatives are not finite")
         return (dphi.reshape(P, m, 2), np.moveaxis(dgy.reshape(P, m, 6), -1, 1),
                 dgp.reshape(P, m), dgs.reshape(P, m))
-
-    def _flat_fold(self, s, Y, p, extra, dp):
-        # chunks of one size, FOLD_CHUNK: every resolution runs on one compiled program
-        # (~12 s to compile for a relaxed energy, against ~0.1 ms per extra chunk)
-        P, m = s.shape
-        n = P * m
-        piece = np.repeat(np.arange(P), m)
-        chunks = [(start, min(start + FOLD_CHUNK, n),
-                   np.minimum(np.arange(start, start + FOLD_CHUNK), min(start + FOLD_CHUNK, n) - 1))
-                  for start in range(0, n, FOLD_CHUNK)]
-        sf, yf = s.reshape(-1), _flat_nodes(Y)
-        kernel = self._k["fold_nodal"]
-        handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
-                                   self.material_parameter, self.scene.h,
-                                   *[e[idx] for e in extra], float(dp)) for _, _, idx in chunks]
-        outs = [[np.asarray(o)[: stop - start] for o in kernel.collect(hd)]
-                for (start, stop, _), hd in zip(chunks, handles)]
-        return [np.concatenate(parts) for parts in zip(*outs)]
 
     def monitor_curvature(self, ya, yb, va, vb):
         """The gradient in (ya, yb, theta) of the monitor's derivative along (va, vb)."""

@@ -291,9 +291,8 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
         p0 = float(sum(wt * f.p for f, wt in extrapolate)) if p is None else p0
     else:
         D = displacement(near)
-    Y = D + system.from_profile(bvp.reference)
+    U = D + system.from_profile(bvp.reference)
     # the ladder starts where the tolerance needs it, not on the nearby fold's last rung
-    U = Y
     if hasattr(system, "curvature_terms"):
         try:
             return fold_ladder(system, U, p0, options=options)
