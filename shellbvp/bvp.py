@@ -99,12 +99,16 @@ class Collocated(NamedTuple):
 
 class Nodal(NamedTuple):
     """The right-hand side at nodes of every piece: f (P, 6, m), df/dy (P, 6, 6, m),
-    df/dp (P, 6, m), and ``hint``, an opaque warm start for the next evaluation."""
+    df/dp (P, 6, m), ``hint``, an opaque warm start for the next evaluation, and
+    ``root_move``, the largest relative move of the inner roots (lam1, k1) from where their
+    Newton started (inf from a cold start): the derivatives are taken at the inner
+    Newton's last iterate, at most that far from the root."""
 
     f: np.ndarray
     J: np.ndarray
     fp: np.ndarray
     hint: object = None
+    root_move: float = math.inf
 
 
 class _Hint(NamedTuple):
@@ -542,8 +546,9 @@ class ShellBVP:
         s, Y, q0 = self._nodal_args(s, Y, hint, p)
         out = self._flat("nodal", s, Y, p, (q0,))
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
-            out = self._flat("nodal", s, Y, p, (self._start(s, Y, p),))
-        return self._nodal_result(s, Y, p, out)
+            q0 = self._start(s, Y, p)
+            out = self._flat("nodal", s, Y, p, (q0,))
+        return self._nodal_result(s, Y, p, out, q0)
 
     def _nodal_args(self, s, Y, hint, p):
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
@@ -567,15 +572,32 @@ class ShellBVP:
         X, _, ok, _, _ = self._scan(s, Y, p)
         return np.where(ok[:, None], X[:, [0, 2]], np.nan)
 
-    def _nodal_result(self, s, Y, p, out) -> Nodal:
+    def resampled_hint(self, hint, P, resample):
+        """The warm start ``hint`` of an evaluation at nodes (P, m) carried to other nodes
+        of the same pieces: ``resample`` maps arrays (P, k, m) at the old nodes to the new
+        ones (an interpolation). The states, roots and root derivatives are smooth along
+        the meridian, so the carried roots start the inner Newton next to its roots."""
+        def resampled(a):
+            a = np.asarray(a, dtype=float)
+            b = np.moveaxis(a.reshape(P, -1, math.prod(a.shape[1:])), 1, 2)
+            return np.moveaxis(resample(b), 2, 1).reshape(-1, *a.shape[1:])
+
+        return _Hint(resampled(hint.y), hint.p, resampled(hint.q), resampled(hint.dq))
+
+    def _nodal_result(self, s, Y, p, out, q0) -> Nodal:
         F, f, J, fp, ok, q, dq = out
+        # (a start that is not finite or has lam1 <= 0 is replaced by the pole-like guess)
+        warm = np.all(np.isfinite(q0)) and np.all(q0[:, 0] > 0)
+        move = float(np.max(np.maximum(np.abs(q[:, 0] - q0[:, 0]) / np.abs(q[:, 0]),
+                                       np.abs(q[:, 1] - q0[:, 1]) / (1.0 + np.abs(q[:, 1]))))) \
+            if warm else math.inf
         P, m = s.shape
         self.evaluations += 1
         self._check(F, ok, s, p)
         f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
         J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
         fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
-        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq))
+        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq), move)
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
@@ -599,8 +621,9 @@ class ShellBVP:
 
         out, bc, mon = call(q0)
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
-            out, bc, mon = call(self._start(s, Y, p))
-        nodal = self._nodal_result(s, Y, p, out)
+            q0 = self._start(s, Y, p)
+            out, bc, mon = call(q0)
+        nodal = self._nodal_result(s, Y, p, out, q0)
         m_, (ga, gb) = mon
         return Collocated(nodal, self._boundary_result(bc, p),
                           (float(m_), np.asarray(ga), np.asarray(gb)))

@@ -93,14 +93,19 @@ def _step_size(d, U, p):
 
 
 def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_MAXITER,
-               index: int = -1) -> Fold:
+               index: int = -1, refining: bool = False) -> Fold:
     """The fold of ``system`` near (U, p): Newton on (R, sigma) = 0 (module docstring).
 
     Converged, after at least two updates, when the update or its quadratic prediction of
     the next is below ``tol`` relative to the unknowns (``stats["location"]``: the error in
     p that prediction leaves), or, as for the branch Newton, when it stalls twice below the
-    round-off floor (``stats["round_off"]`` is then the last update of p). ``stats["curvature"]`` is d2p/dm2 there. Raises
-    ConvergenceError if the iteration fails (a singular bordered matrix, a pivot
+    round-off floor (``stats["round_off"]`` is then the last update of p).
+    ``refining``: (U, p) is the converged fold of a coarser discretisation of the same
+    problem carried over (a finer rung of the ladder, ~1e-10 away, its inner roots carried
+    along); one update then suffices where the error it can leave, CONTRACTION_BOUND
+    (step^2 + delta step) with delta the relative error of the Jacobian (at most the
+    evaluation's ``root_move``), is below the tolerance. ``stats["curvature"]`` is d2p/dm2
+    there. Raises ConvergenceError if the iteration fails (a singular bordered matrix, a pivot
     d2p/dm2 = 0, growing updates, an inner solve that fails, or ``maxiter``).
     """
     t0 = time.perf_counter()
@@ -115,6 +120,7 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         reuse = it >= 2 and history[-1][2] <= REUSE_STEP
         R, _, Rp, m, gm, factor, v, sigma, sU_new, sp_new = fold_system_terms(
             system, U, p, curvature=not reuse)
+        root_move = getattr(system, "root_move", math.inf)
         if not reuse:
             sU, sp = sU_new, sp_new
         x = np.append(v, sigma)
@@ -132,15 +138,23 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         if not math.isfinite(step):
             break
         # quadratic convergence: the error left after this update is ~ C step^2, C from the
-        # last two updates: stop when that (or the update) is below tol, which saves the
-        # solve that would only confirm it. Never after the first update: its Jacobian may
-        # be inexact (the inner roots of a state carried from another degree start cold,
-        # and the last inner iterate, where the Jacobian is taken, can be 1e-5 from the
-        # root), and one step then left 1.2e-11 in kappa where C = 100 predicted 1e-14
-        left = min(step / history[-2][2] ** 2, CONTRACTION_BOUND) * step**2 \
-            if it >= 2 and history[-2][2] > 0 else math.inf     # the predicted next update
+        # last two updates (a C above CONTRACTION_BOUND is not that regime but a stall, e.g.
+        # on an inexact Jacobian, whose next update is as large as this one): stop when that
+        # (or the update) is below tol, which saves the solve that would only confirm it.
+        # After the first update only on a refining rung, the Jacobian's error counted: from
+        # cold inner roots it is up to 1e-5, and one update then left 1.2e-11 in kappa where
+        # C step^2 predicted 1e-14
+        C = step / history[-2][2] ** 2 if it >= 2 and history[-2][2] > 0 else math.inf
+        left = C * step**2 if C <= CONTRACTION_BOUND else math.inf  # the predicted next update
         if it >= 2 and (step <= tol or left <= PREDICTED_FRACTION * tol):
             break
+        if it == 1 and refining:
+            # one update from a start ~1e-10 away leaves C (step^2 + delta step), delta the
+            # relative error of the Jacobian: its inner iterate's distance from the roots,
+            # at most root_move (~C root_move^2 after a warm start; inf after a cold one)
+            left = CONTRACTION_BOUND * (step**2 + root_move * step)
+            if left <= PREDICTED_FRACTION * tol:
+                break
         if it >= 2 and step > 0.5 * history[-2][2]:
             if step <= ROUND_OFF_STEP:
                 floor_hits += 1
@@ -183,7 +197,7 @@ def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOpti
 
     def advance(finer, current):
         return solve_fold(finer, current.system.transfer(current.U, current.p, finer),
-                          current.p, index=index)
+                          current.p, index=index, refining=True)
 
     # the error in p the last Newton update may have left (its prediction) counts once
     return climb(system, first, current, advance, options=options, index=index, t0=t0,

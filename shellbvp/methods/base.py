@@ -10,6 +10,7 @@ another system of the same method.
 
 from __future__ import annotations
 
+import math
 from typing import Callable, Protocol
 
 import numpy as np
@@ -76,6 +77,9 @@ class NodalSystem:
         self.evaluations = 0
         self._hint = None       # warm start of the BVP's inner solve (cost only)
         self._monitor = None    # (U, monitor at U) of the last evaluation
+        #: the largest relative move of the BVP's inner roots from their warm start in the
+        #: last evaluation (inf after a cold start): its Jacobian was taken that close to them
+        self.root_move = math.inf
 
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
@@ -121,7 +125,9 @@ class NodalSystem:
             bc = bvp.boundary(Y[0, :, 0], Y[-1, :, -1], p)
             mon = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
         # a warm start changes cost only: the inner Newton converges to 1e-13 from any start
+        # (and where the Jacobian is taken, at most ``root_move`` from the root)
         self._hint = nodal.hint
+        self.root_move = getattr(nodal, "root_move", math.inf)
         return nodal, bc, mon
 
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)

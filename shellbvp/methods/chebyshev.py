@@ -254,6 +254,20 @@ class ChebyshevSystem(NodalSystem):
         return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))
                                          for i in range(self.P)])
 
+    def transfer(self, U, p, other) -> np.ndarray:
+        """U carried onto ``other``; on another degree of the same BVP the inner roots of
+        the last evaluation go along (interpolated), so that its first evaluation starts
+        the inner Newton next to its roots, as the next evaluation on this degree would:
+        its Jacobian is then exact to round-off, not taken ~1e-5 from a cold root."""
+        V = super().transfer(U, p, other)
+        carry = getattr(self.bvp, "resampled_hint", None)
+        if carry is not None and other.bvp is self.bvp and self._hint is not None \
+                and other is not self:
+            def resample(a):                     # (P, k, N + 1) -> (P, k, other.N + 1)
+                return np.stack([evaluate(c, other.t) for c in coefficients(a)])
+            other._hint = carry(self._hint, self.P, resample)
+        return V
+
     def on(self, bvp) -> "ChebyshevSystem":
         """The same discretisation of another BVP with the same pieces (e.g. the scene at
         a nearby parameter): unknowns at the same piece coordinates."""
