@@ -37,7 +37,7 @@ import numpy as np
 import shellbvp
 from shellbvp import Chebyshev, ContinuationOptions, Scene
 
-__all__ = ["THETA", "H", "LAM", "PATCH", "scene", "gammas", "branch", "equilibrium",
+__all__ = ["THETA", "H", "LAM", "PATCH", "scene", "patch", "gammas", "branch", "equilibrium",
            "equilibrium_near", "diagnose", "Diagnosis"]
 
 THETA = math.pi / 8          # opening half-angle
@@ -63,23 +63,17 @@ def gammas(eta) -> tuple:
     return eta * g2, g2
 
 
-@dataclass(frozen=True)
-class _Patch:
-    """The stimulus fields of eq. (stimulusII) (a frozen dataclass, so that equal scenes
-    compare equal and share compiled code)."""
-
-    ga1: float
-    ga2: float
-    gb1: float
-    gb2: float
-
-    def __call__(self, piece, s, kbar):
-        one = 0.0 * s + 1.0
-        if piece == 1:                       # outside the patch: the reference cap
-            return one, one, -one, -one
-        G1, G2 = 1.0 + self.ga1 * kbar / 5.0, 1.0 + self.ga2 * kbar / 5.0
-        return (G1 ** 0.5 * one, G2 ** 0.5 * one, -(1.0 + self.gb1 * kbar) / G1 * one,
-                -(1.0 + self.gb2 * kbar) / G2 * one)
+def patch(piece, s, kbar, c):
+    """The stimulus fields of eq. (stimulusII), c = (gamma_a1, gamma_a2, gamma_b1, gamma_b2):
+    on the patch (piece 0) g_a^2 = 1 + gamma_a,a kbar / 5 and kb_a = -(1 + gamma_b,a kbar)
+    / g_a^2; outside it (piece 1) the reference cap. The gammas are the scene's field
+    parameters, arguments of the compiled programs: every case shares them."""
+    one = 0.0 * s + 1.0
+    if piece == 1:                       # outside the patch: the reference cap
+        return one, one, -one, -one
+    G1, G2 = 1.0 + c[0] * kbar / 5.0, 1.0 + c[1] * kbar / 5.0
+    return (G1 ** 0.5 * one, G2 ** 0.5 * one, -(1.0 + c[2] * kbar) / G1 * one,
+            -(1.0 + c[3] * kbar) / G2 * one)
 
 
 def scene(eta_a, eta_b) -> Scene:
@@ -89,8 +83,8 @@ def scene(eta_a, eta_b) -> Scene:
     if eta_b == 0:
         raise ValueError("eta_b must be > 0 (the curvature stimulus drives the bud), got 0")
     return Scene(theta=THETA, h=H, lam=LAM, model="relaxed", material="cg", apex="free",
-                 edge="clamped", fields=_Patch(*ga, *gb), breaks=(PATCH,),
-                 metric=eta_a > 0, parameter="kbar")
+                 edge="clamped", fields=patch, field_parameters=(*ga, *gb),
+                 breaks=(PATCH,), metric=eta_a > 0, parameter="kbar")
 
 
 def _method(nodes):

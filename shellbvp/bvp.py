@@ -71,6 +71,11 @@ POLE_OFFSET = 1e-4
 CHUNKS = (8, 16, 24, 40, 56, 72, 96, 128, 192, 256, 384, 512)
 #: nodes per compiled call of the fold system's second derivatives (:meth:`ShellBVP.fold_terms`)
 FOLD_CHUNK = 24
+#: nodes per compiled call of the state along the meridian (:meth:`ShellBVP.state`), at
+#: every node count: its scan is sequential, so chunking costs only a dispatch per chunk,
+#: and one program (~5-8 s to compile for a relaxed energy) serves the solvers' nodes and
+#: the energy quadrature's (which needed a second one at its own size)
+STATE_CHUNK = 72
 #: steps in which the inner root is carried across an interface as the fields jump
 #: (post-processing only; the methods carry it from their previous iterate)
 INTERFACE_STEPS = 16
@@ -142,44 +147,38 @@ def _package_source() -> str:
 
 def _disk_key(functions, *parts) -> str | None:
     """A disk key for compiled kernels of the scene's ``functions`` (fields, pressure) and
-    ``parts``, or None when one of them is neither a module-level function of this package
-    nor an instance of one of its module-level frozen dataclasses (a user's function, a
-    closure: their code is not covered by the package's source hash, so their programs stay
-    in memory)."""
+    ``parts``, or None when one of them is not a module-level function of this package (a
+    user's function, a closure: their code is not covered by the package's source hash, so
+    their programs stay in memory). Numbers the functions depend on are the scene's field
+    parameters, arguments of the programs, not part of their code."""
     import sys
 
     from .cache import files_digest
-
-    import dataclasses
 
     names = []
     for fn in functions:
         if fn is None:
             names.append(None)
             continue
-        # a module-level function, or an instance of a module-level frozen dataclass (its
-        # code is the class's, its constants are its repr: e.g. a scene's stimulus patch)
-        data = dataclasses.is_dataclass(fn) and not isinstance(fn, type) and \
-            type(fn).__dataclass_params__.frozen
-        obj = type(fn) if data else fn
-        module = getattr(obj, "__module__", "") or ""
-        qualname = getattr(obj, "__qualname__", "") or ""
+        module = getattr(fn, "__module__", "") or ""
+        qualname = getattr(fn, "__qualname__", "") or ""
         if not module.startswith("shellbvp") or "<" in qualname or \
-                getattr(sys.modules.get(module), qualname, None) is not obj:
+                getattr(sys.modules.get(module), qualname, None) is not fn:
             return None
         # the scenes (shellbvp.problems) live outside the package folder: hash their module
-        names.append((module, qualname, repr(fn) if data else None,
-                      files_digest([sys.modules[module].__file__])))
+        names.append((module, qualname, files_digest([sys.modules[module].__file__])))
     return repr((_package_source(), tuple(names), parts))
 
 
 @lru_cache(maxsize=32)
 def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False,
-             pressure=None):
-    """The scene's compiled functions (see :class:`ShellBVP`)."""
+             pressure=None, n_field_parameters=0):
+    """The scene's compiled functions (see :class:`ShellBVP`). Every function of the
+    fields takes the scene's field parameters c (an array of ``n_field_parameters``) as an
+    argument after h: scenes that differ in c only share these programs."""
     pf = point_functions(model, material, rhob1, metric)
     base = _disk_key((fields, pressure), model, material, rhob1, metric, P, apex, edge,
-                     log_apex)
+                     log_apex, n_field_parameters)
 
     def packed(fn, name):
         return Packed(fn, None if base is None else f"{name}:{base}")
@@ -187,23 +186,24 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
     def field_piece(i):
         # the stimulus fields (g1, g2, kb1, kb2) and the pressure: the five "fields" of the
         # compiled equations (the pressure is uniform; a derivative in p reaches it too)
-        def F(s, p):
+        def F(s, p, c):
             load = 0.0 if pressure is None else pressure(p)
+            values = fields(i, s, p, c) if n_field_parameters else fields(i, s, p)
             return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                              for v in (*fields(i, s, p), load)])
+                              for v in (*values, load)])
         return F
 
     branches = [field_piece(i) for i in range(P)]
 
-    def fields_at(piece, s, p):
-        return jax.lax.switch(piece, branches, s, p) if P > 1 else branches[0](s, p)
+    def fields_at(piece, s, p, c):
+        return jax.lax.switch(piece, branches, s, p, c) if P > 1 else branches[0](s, p, c)
 
-    def nodal_one(piece, s, y, p, lam, h, q_init):
-        F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_), (p,), (jnp.ones_like(p),))
+    def nodal_one(piece, s, y, p, lam, h, c, q_init):
+        F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_, c), (p,), (jnp.ones_like(p),))
         f, J, fp, ok, q, dq = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
         return F, f, J, fp, ok, q, dq
 
-    def state_along(piece, s, y, p, lam, h, q_start, q_hints):
+    def state_along(piece, s, y, p, lam, h, c, q_start, q_hints):
         # Each node from the previous node's (lam1, k1) (nodes in order along the meridian:
         # the state is continuous in s within a piece). Across an interface y is continuous
         # but (lam1, k1) jump with the fields: there the root is followed from the previous
@@ -220,7 +220,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         def step(carry, args):
             q, F_prev = carry
             piece_, s_, y_, q_hint = args
-            F = fields_at(piece_, s_, p)
+            F = fields_at(piece_, s_, p, c)
             # a given hint (the root a solver converged to there) comes first: near a loss
             # of ellipticity the previous node's root may lead to no elliptic one
             hinted = jnp.all(jnp.isfinite(q_hint))
@@ -234,7 +234,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             gw, Hw = pf["hessian"](y_, q_new, s_, F, lam, h)
             return (jnp.where(ok, q_new, q), F), (X, F, ok, gw, Hw)
 
-        F0 = fields_at(piece[0], s[0], p)
+        F0 = fields_at(piece[0], s[0], p, c)
         (q_end, _), (X, F, ok, gw, Hw) = jax.lax.scan(step, (q_start, F0),
                                                       (piece, s, y, q_hints))
         return X, F, ok, gw, Hw, q_end
@@ -256,8 +256,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
         return jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
 
-    def pole(ya, p, eps, lam, h, q_root, dq):
-        F0 = fields_at(0, eps, p)
+    def pole(ya, p, eps, lam, h, c, q_root, dq):
+        F0 = fields_at(0, eps, p, c)
         # q(ya, p) with the value of the root and the derivative of implicit differentiation,
         # dq = [dq/dy, dq/dp] (2, 7): the pole rows then differentiate only kinematics
         q = (q_root + dq[:, :6] @ (ya - jax.lax.stop_gradient(ya))
@@ -271,17 +271,18 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return jnp.stack([yb[0] - jnp.sin(theta), yb[1] - (jnp.cos(theta) - 1.0),
                           yb[2] - theta])
 
-    def boundary_jac(ya, yb, p, eps, theta, lam, h, pole_root=None):
+    def boundary_jac(ya, yb, p, eps, theta, lam, h, c, pole_root=None):
         # the pole rows depend on (ya, p) only, the edge rows on yb only: differentiate each
         # in its own variables. The inner root at the pole and its implicit derivatives come
         # from the nodal function at s = eps (given when node 0 of the first piece is the
         # pole, as in collocation), so no derivative runs through the inner Newton loop.
         if pole_root is None:
-            _, _, _, _, ok, q_root, dq = nodal_one(0, eps, ya, p, lam, h, jnp.full(2, jnp.nan))
+            _, _, _, _, ok, q_root, dq = nodal_one(0, eps, ya, p, lam, h, c,
+                                                   jnp.full(2, jnp.nan))
         else:
             ok, q_root, dq = pole_root
         (Ja, Jp), (start, F0) = jax.jacfwd(pole, argnums=(0, 1), has_aux=True)(
-            ya, p, eps, lam, h, q_root, dq)
+            ya, p, eps, lam, h, c, q_root, dq)
         Jb = jax.jacfwd(edge_conditions)(yb, theta)
         z = jnp.zeros((3, 6))
         return (jnp.concatenate([start, edge_conditions(yb, theta)]), jnp.vstack([Ja, z]),
@@ -293,42 +294,42 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         rel = yb[1] - z_apex - (jnp.cos(theta) - 1.0)
         return (rel if edge == "free" else -rel) / H
 
-    def vector_field(piece, s, y, p, lam, h):
+    def vector_field(piece, s, y, p, lam, h, c):
         # f with the inner root found on values only (no tangent runs through its Newton
         # loop) and differentiated implicitly (f_linear): the first derivatives a solver
         # takes of f (forward-mode sensitivities in shooting) are exact, at the cost of one
         # linear solve per direction instead of every inner iteration (2.7x less time per
         # shooting evaluation, 0.59 -> 0.22 s at rtol 1e-8; Jacobians equal to 2e-12)
-        F = fields_at(piece, s, p)
+        F = fields_at(piece, s, p, c)
         stop = jax.lax.stop_gradient
         q_root, _, _ = pf["root"](stop(y), stop(s), stop(F), stop(lam), stop(h))
         return pf["f_linear"](y, s, F, lam, h, q_root)
 
-    ax = (0, 0, 0, None, None, None, 0)
+    ax = (0, 0, 0, None, None, None, None, 0)
     nodal = jax.vmap(nodal_one, in_axes=ax)
 
-    def sensitivity_one(piece, s, y, p, lam, h, q_init, geometry_only=False):
+    def sensitivity_one(piece, s, y, p, lam, h, c, q_init, geometry_only=False):
         # f and its derivatives in (s, material parameter, h) at fixed y and p, the fields
         # included (they depend on s), by implicit differentiation of the inner root; with
         # geometry_only, in s alone (zeros for the others): a derivative of the relaxed
         # energy in lam and h costs ~20 s of compilation that a theta derivative does not need
-        q_root, _, _ = pf["root"](y, s, fields_at(piece, s, p), lam, h, q_init)
+        q_root, _, _ = pf["root"](y, s, fields_at(piece, s, p, c), lam, h, q_init)
 
         def f(s_, lam_, h_):
-            return pf["f_linear"](y, s_, fields_at(piece, s_, p), lam_, h_, q_root)
+            return pf["f_linear"](y, s_, fields_at(piece, s_, p, c), lam_, h_, q_root)
 
         if geometry_only:
             value, ds = jax.jvp(lambda s_: f(s_, lam, h), (s,), (jnp.ones_like(s),))
             return value, jnp.stack([ds, jnp.zeros_like(ds), jnp.zeros_like(ds)], axis=-1)
         return f(s, lam, h), jnp.stack(jax.jacfwd(f, argnums=(0, 1, 2))(s, lam, h), axis=-1)
 
-    def boundary_sensitivity(ya, yb, p, eps, theta, lam, h, geometry_only=False):
+    def boundary_sensitivity(ya, yb, p, eps, theta, lam, h, c, geometry_only=False):
         # the boundary rows' derivatives in (eps, theta, material parameter, h) and the
         # monitor's in theta, at fixed ya, yb and p (geometry_only: zeros for lam, h)
-        q_root, _, _ = pf["root"](ya, eps, fields_at(0, eps, p), lam, h)
+        q_root, _, _ = pf["root"](ya, eps, fields_at(0, eps, p, c), lam, h)
 
         def rows(eps_, theta_, lam_, h_):
-            F0 = fields_at(0, eps_, p)
+            F0 = fields_at(0, eps_, p, c)
             q = pf["q_linear"](ya, eps_, F0, lam_, h_, q_root)
             return jnp.concatenate([pole_rows(ya, q, eps_, F0, lam_, h_),
                                     edge_conditions(yb, theta_)])
@@ -340,7 +341,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             d = jax.jacfwd(rows, argnums=(0, 1, 2, 3))(eps, theta, lam, h)
         return jnp.stack(d, axis=-1), jax.grad(observable, argnums=2)(ya, yb, theta)
 
-    def fold_node(piece, s, y, p, lam, h, q, dq, wn, wb, v, dp):
+    def fold_node(piece, s, y, p, lam, h, c, q, dq, wn, wb, v, dp):
         # phi = wn . f + wb . (pole rows) at one node (wb = 0 but at the pole), along the
         # inner root q (derivative dq): the derivative of phi along (v, dp) and that of its
         # gradient in (y, p, s), exact (``curvature`` of :func:`point_functions`)
@@ -349,18 +350,19 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                               wb @ pole_rows(y_, q_, s_, F_, lam, h, fns)])
 
         return pf["curvature"](phi, (y, p, s), (v, dp, jnp.zeros_like(s)), lam, h, q, dq,
-                               lambda s_, p_: fields_at(piece, s_, p_))
+                               lambda s_, p_: fields_at(piece, s_, p_, c))
 
     def observable_curvature(ya, yb, theta, va, vb):
         # the gradient in (ya, yb, theta) of the observable's derivative along (va, vb)
         return jax.jvp(lambda a, b: jax.grad(observable, argnums=(0, 1, 2))(a, b, theta),
                        (ya, yb), (va, vb))[1]
 
-    def collocate(piece, s, y, p, lam, h, q_init, ya, yb, eps, theta):
+    def collocate(piece, s, y, p, lam, h, c, q_init, ya, yb, eps, theta):
         # everything a collocation method needs at one iterate, in one dispatch; the first
         # node is the pole (s = eps, y = ya), whose inner root the pole rows reuse
-        nod = nodal(piece, s, y, p, lam, h, q_init)
-        return (nod, boundary_jac(ya, yb, p, eps, theta, lam, h, (nod[4][0], nod[5][0], nod[6][0])),
+        nod = nodal(piece, s, y, p, lam, h, c, q_init)
+        return (nod, boundary_jac(ya, yb, p, eps, theta, lam, h, c,
+                                  (nod[4][0], nod[5][0], nod[6][0])),
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
     return dict(
@@ -375,8 +377,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                                              in_axes=ax), "geometry_sensitivity"),
         boundary_geometry_sensitivity=packed(partial(boundary_sensitivity, geometry_only=True),
                                              "boundary_geometry_sensitivity"),
-        fold_nodal=packed(jax.vmap(fold_node, in_axes=(0, 0, 0, None, None, None, 0, 0, 0, 0,
-                                                      0, None)), "fold_nodal"),
+        fold_nodal=packed(jax.vmap(fold_node, in_axes=(0, 0, 0, None, None, None, None, 0,
+                                                      0, 0, 0, 0, None)), "fold_nodal"),
         observable_curvature=packed(observable_curvature, "observable_curvature"),
         vector_field=vector_field,
     )
@@ -386,32 +388,33 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
 APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 
 
-def _anisotropic_apex(fields, eps) -> bool:
+def _anisotropic_apex(scene, eps) -> bool:
     """Whether the target curvature is anisotropic at the apex (kb1 != kb2 at s = eps for
     some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A
     (module docstring), which costs third derivatives of W in the compiled boundary rows."""
     for p in APEX_PROBES:
-        F = [float(v) for v in fields(0, eps, p)]
+        F = [float(v) for v in scene.field_values(0, eps, p)]
         if F[2] != F[3] and all(math.isfinite(v) for v in F):
             return True
     return False
 
 
 @lru_cache(maxsize=64)
-def _untraceable(fields, P, pressure=None) -> str:
+def _untraceable(fields, P, pressure=None, n_field_parameters=0) -> str:
     """Why JAX cannot trace the scene's fields or pressure (every method traces them), or ""
     if it can; one trace per field function, not one per solve."""
     def trace(i):
-        s = jnp.float64(0.5)
-        return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                          for v in fields(i, s, jnp.float64(0.0))])
+        s, p = jnp.float64(0.5), jnp.float64(0.0)
+        values = fields(i, s, p, jnp.zeros(n_field_parameters)) if n_field_parameters \
+            else fields(i, s, p)
+        return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s for v in values])
 
     for i in range(P):
         try:
             out = jax.eval_shape(lambda: trace(i))
         except Exception as exc:  # any tracing failure is the user's field function
             return (f"scene fields must be written with array arithmetic or jax.numpy (they "
-                    f"are traced by JAX); fields(piece={i}, s, p) failed: "
+                    f"are traced by JAX); fields(piece={i}, ...) failed: "
                     f"{type(exc).__name__}: {str(exc).splitlines()[0]}")
         if out.shape != (4,):
             return (f"scene fields must return four values (g1, g2, kb1, kb2), got shape "
@@ -458,15 +461,18 @@ class ShellBVP:
         self.b = np.array(scene.breaks + (scene.theta,))
         self.P = scene.pieces
         self.rise = 1.0 - math.cos(scene.theta)
-        problem = _untraceable(scene.fields, self.P, scene.pressure)
+        n_c = len(scene.field_parameters)
+        problem = _untraceable(scene.fields, self.P, scene.pressure, n_c)
         if problem:
             raise ValueError(problem)
         self._layouts = {}
         #: kb1 != kb2 at the apex: curvatures diverge like log s there (module docstring)
-        self.anisotropic_apex = _anisotropic_apex(scene.fields, eps)
+        self.anisotropic_apex = _anisotropic_apex(scene, eps)
         self._k = _kernels(scene.model, scene.material, float(scene.rhob1),
                            bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge,
-                           self.anisotropic_apex, scene.pressure)
+                           self.anisotropic_apex, scene.pressure, n_c)
+        #: the field parameters, an argument of every compiled function of the fields
+        self.field_parameters = np.array(scene.field_parameters, dtype=float)
         self.evaluations = 0
 
     def round_off(self, p: float) -> float:
@@ -518,6 +524,7 @@ class ShellBVP:
         kernel = self._k[name]
         handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
                                    self.material_parameter, self.scene.h,
+                                   self.field_parameters,
                                    *[e[idx] for e in extra], *scalars)
                    for _, _, idx in chunks]
         outs = [[np.asarray(o)[: stop - start] for o in kernel.collect(hd)]
@@ -616,7 +623,8 @@ class ShellBVP:
         def call(q):
             nod, bc, mon = self._k["collocate"](
                 piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.material_parameter,
-                sc.h, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps, sc.theta)
+                sc.h, self.field_parameters, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps,
+                sc.theta)
             return [np.asarray(o)[:P * m] for o in nod], bc, mon
 
         out, bc, mon = call(q0)
@@ -651,7 +659,7 @@ class ShellBVP:
         Newton started from ``q_hint`` there (P, m, 2) where given and finite, else from the
         previous node's root (see ``state_along`` in the kernels)."""
         P, m = s.shape
-        piece, chunks = self._layout(P, m)
+        piece, chunks = self._layout(P, m, STATE_CHUNK)
         sf, yf = s.reshape(-1), _flat_nodes(Y)
         qh = np.full((P * m, 2), np.nan) if q_hint is None else \
             np.asarray(q_hint, dtype=float).reshape(P * m, 2)
@@ -659,7 +667,8 @@ class ShellBVP:
         outs = []
         for start, stop, idx in chunks:
             X, F, ok, gw, Hw, q = self._k["state"](piece[idx], sf[idx], yf[idx], float(p),
-                                                   self.material_parameter, self.scene.h, q,
+                                                   self.material_parameter, self.scene.h,
+                                                   self.field_parameters, q,
                                                    qh[idx])
             n = stop - start
             outs.append((X[:n], F[:n], ok[:n], gw[:n], Hw[:n]))
@@ -673,7 +682,7 @@ class ShellBVP:
         sc = self.scene
         return self._boundary_result(self._k["boundary"](
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.material_parameter, sc.h), p)
+            sc.theta, self.material_parameter, sc.h, self.field_parameters), p)
 
     def sensitivities(self, s, Y, p, hint=None, geometry_only=False):
         """f and its derivatives in (s, material parameter, h) at nodes s (P, m), states
@@ -700,7 +709,7 @@ class ShellBVP:
         name = "boundary_geometry_sensitivity" if geometry_only else "boundary_sensitivity"
         dr, dm = self._k[name](
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.material_parameter, sc.h)
+            sc.theta, self.material_parameter, sc.h, self.field_parameters)
         return np.asarray(dr), float(dm)
 
     def fold_terms(self, s, Y, p, Wn, wb, V, dp, hint=None):

@@ -6,8 +6,10 @@ on s that may be piecewise (``breaks`` are the interior interfaces, treated exac
 multi-point problem) and may depend on one named scalar parameter (``parameter``, e.g.
 ``"kappa"``). ``fields(piece, s, p)`` returns (g1, g2, kb1, kb2) on piece ``piece``:
 target stretch factors abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22 and target curvatures
-kb_a = bbar_aa / abar_aa, in 1/R0. A uniform external pressure ``pressure(p)`` may load it. Fields must use array arithmetic only (they are traced by
-JAX in the shooting back-end). A scene with ``metric=False`` promises g1 = g2 = 1 and gets
+kb_a = bbar_aa / abar_aa, in 1/R0; with ``field_parameters`` c, ``fields(piece, s, p, c)``
+(numbers the compiled code takes as arguments). A uniform external pressure
+``pressure(p)`` may load it. Fields must use array arithmetic only (they are traced by
+JAX). A scene with ``metric=False`` promises g1 = g2 = 1 and gets
 Euler-Lagrange equations without g terms.
 """
 
@@ -57,7 +59,13 @@ class Scene:
         rhob1: through-thickness stimulus (> 0; rhob2 = rhob3 = 0).
         apex: ``"held"`` (z(0) = 0) or ``"free"`` (no point force at the apex, F_z = 0).
         edge: ``"free"`` (M = F_r = F_z = 0) or ``"clamped"`` (r, z, theta at reference values).
-        fields: ``fields(piece, s, p) -> (g1, g2, kb1, kb2)``.
+        fields: ``fields(piece, s, p) -> (g1, g2, kb1, kb2)``, or
+            ``fields(piece, s, p, c)`` with ``field_parameters``.
+        field_parameters: numbers c the fields depend on besides p, passed to them as an
+            array ``c`` (empty: fields take three arguments). They are arguments of the
+            compiled programs, not constants folded into them: scenes that differ only in
+            c share their compiled code (a sweep over a stimulus' amplitude or anisotropy
+            compiles once).
         pressure: ``pressure(p) -> P``, a uniform external pressure on the deformed surface
             in mu* h0 / R0 (a follower load; positive toward the centre of curvature of the
             undeformed cap, i.e. pushing the apex down), or None (no load). Its potential
@@ -84,6 +92,7 @@ class Scene:
     parameter: str = "kappa"
     nu: float = 0.5
     pressure: Callable | None = None
+    field_parameters: tuple = ()
 
     @property
     def material_parameter(self) -> float:
@@ -117,10 +126,23 @@ class Scene:
                        or not np.all(np.isfinite(b))):
             raise ValueError(f"breaks must increase strictly inside (0, theta), got {self.breaks!r}")
         object.__setattr__(self, "breaks", tuple(float(x) for x in b))
+        c = np.asarray(self.field_parameters, dtype=float) \
+            if isinstance(self.field_parameters, (tuple, list, np.ndarray)) else None
+        if c is None or c.ndim != 1 or not np.all(np.isfinite(c)):
+            raise ValueError(f"field_parameters must be a tuple of finite numbers, got "
+                             f"{self.field_parameters!r}")
+        object.__setattr__(self, "field_parameters", tuple(float(x) for x in c))
 
     @property
     def pieces(self) -> int:
         return len(self.breaks) + 1
+
+    def field_values(self, piece, s, p):
+        """(g1, g2, kb1, kb2) on piece ``piece`` at s and parameter p: ``fields`` called
+        with the scene's ``field_parameters`` where it has any."""
+        if self.field_parameters:
+            return self.fields(piece, s, p, np.asarray(self.field_parameters))
+        return self.fields(piece, s, p)
 
     def check_fields(self, out, piece, p):
         """Raise a named ValueError unless the fields (g1, g2, kb1, kb2[, pressure]) are

@@ -116,7 +116,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     P, t = bvp.P, chebyshev_points(N)
     L = bvp.lengths
     s = np.stack([bvp.s_of(i, t) for i in range(P)])                   # (P, N + 1)
-    F = np.stack([np.broadcast_to(np.asarray(sc.fields(i, s[i], eq.p), float), (4, N + 1))
+    F = np.stack([np.broadcast_to(np.asarray(sc.field_values(i, s[i], eq.p), float), (4, N + 1))
                   for i in range(P)])                                     # (P, 4, N + 1)
     g1, g2, kb1, kb2 = (jnp.asarray(F[:, k]) for k in range(4))
     pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))

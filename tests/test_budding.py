@@ -54,11 +54,11 @@ def test_scene_reads_like_the_paper():
     assert bd.gammas(1.0) == pytest.approx((1.0, 1.0))
     # fields: on the patch g^2 = 1 + gamma_a kbar / 5, kb = -(1 + gamma_b kbar) / g^2
     ga, gb = bd.gammas(0.5), bd.gammas(2.0)
-    g1, g2, kb1, kb2 = sc.fields(0, 0.01, 10.0)
+    g1, g2, kb1, kb2 = sc.field_values(0, 0.01, 10.0)
     assert g1**2 == pytest.approx(1 + 2 * ga[0]) and g2**2 == pytest.approx(1 + 2 * ga[1])
     assert kb1 == pytest.approx(-(1 + 10 * gb[0]) / g1**2)
     assert kb2 == pytest.approx(-(1 + 10 * gb[1]) / g2**2)
-    assert tuple(sc.fields(1, 0.2, 10.0)) == (1.0, 1.0, -1.0, -1.0)
+    assert tuple(sc.field_values(1, 0.2, 10.0)) == (1.0, 1.0, -1.0, -1.0)
 
 
 @pytest.mark.parametrize("kwargs,name", [

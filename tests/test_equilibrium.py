@@ -196,10 +196,35 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
     (dict(theta=0.5, h=0.01, lam=-1.0), "lam"), (dict(theta=0.5, h=0.01, apex="pinned"), "apex"),
     (dict(theta=0.5, h=0.01, edge="simply"), "edge"),
     (dict(theta=0.5, h=0.01, breaks=(0.7,)), "breaks"),
+    (dict(theta=0.5, h=0.01, field_parameters=(math.nan,)), "field_parameters"),
+    (dict(theta=0.5, h=0.01, field_parameters="1.0"), "field_parameters"),
+    (dict(theta=0.5, h=0.01, field_parameters=((1.0, 2.0),)), "field_parameters"),
 ])
 def test_bad_scene_is_named(kwargs, name):
     with pytest.raises(ValueError, match=name):
         Scene(**kwargs)
+
+
+def _scaled(piece, s, kappa, c):
+    """uniform_curvature with kappa scaled by the field parameter c[0]."""
+    one = 0.0 * s + 1.0
+    return one, one, (c[0] * kappa - 1.0) * one, (c[0] * kappa - 1.0) * one
+
+
+def test_field_parameters_are_program_arguments():
+    """A scene's field parameters reach the fields at run time: with kappa scaled by c,
+    kappa = 2 at c = 1.5 and 0.5 is the plain cap (another program, the fields'
+    own code) at kappa = 3 and 1; scenes that differ only in c share one set of compiled
+    programs."""
+    kw = dict(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
+    one = Scene(fields=_scaled, field_parameters=(1.5,), **kw)
+    other = Scene(fields=_scaled, field_parameters=(0.5,), **kw)
+    assert ShellBVP(one)._k is ShellBVP(other)._k
+    for scene, kappa in ((one, 3.0), (other, 1.0)):
+        a = solve(scene, 2.0, method=Chebyshev(nodes=24), estimate_error=False)
+        b = solve(CAP, kappa, method=Chebyshev(nodes=24), estimate_error=False)
+        assert a.w == pytest.approx(b.w, abs=1e-13)
+        assert np.max(np.abs(a.r - b.r)) < 1e-13 and np.max(np.abs(a.z - b.z)) < 1e-13
 
 
 def test_bad_solve_arguments_are_named():

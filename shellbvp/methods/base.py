@@ -103,8 +103,9 @@ class NodalSystem:
     def inner_roots(self, U, p) -> np.ndarray:
         """The inner roots (lam1, k1) at the nodes (P, M + 1, 2), the BVP's inner solve
         warm-started from this system's last evaluation (as during its solves): starts for
-        evaluating the state elsewhere (:meth:`shellbvp.bvp.ShellBVP.state`)."""
-        nodal = self.bvp.rhs(self.s, self.split(U), p, self._hint)
+        evaluating the state elsewhere (:meth:`shellbvp.bvp.ShellBVP.state`). By the
+        evaluation's own compiled call (:meth:`_collocate`), not a second program."""
+        nodal, _, _ = self._collocate(self.split(U), p)
         return np.asarray(nodal.hint.q).reshape(self.P, self.M + 1, 2)
 
     # --- the system --------------------------------------------------------------------------

@@ -95,11 +95,11 @@ def _compiled(vector_field, adaptive):
 
     from ..jaxsetup import jax
 
-    def solve_segment(piece, y0, s0, s1, p, lam, h, tol, saveat):
+    def solve_segment(piece, y0, s0, s1, p, lam, h, c, tol, saveat):
         # ``tol`` is the PID tolerance (adaptive) or the number of fixed steps (not adaptive);
         # both are traced, so changing them does not recompile.
         def vf(s, y, args):
-            return vector_field(piece, s, y, p, lam, h)
+            return vector_field(piece, s, y, p, lam, h, c)
 
         if adaptive:
             ctrl, dt0 = diffrax.PIDController(rtol=tol, atol=tol), (s1 - s0) / 8
@@ -110,21 +110,22 @@ def _compiled(vector_field, adaptive):
             saveat=saveat, max_steps=MAX_ODE_STEPS, adjoint=diffrax.ForwardMode(),
             throw=False)
 
-    def flow(y0, piece, s0, s1, p, lam, h, tol):
-        return solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(t1=True)).ys[-1]
+    def flow(y0, piece, s0, s1, p, lam, h, c, tol):
+        return solve_segment(piece, y0, s0, s1, p, lam, h, c, tol,
+                             diffrax.SaveAt(t1=True)).ys[-1]
 
-    def flow_and_sens(piece, y0, s0, s1, p, lam, h, tol):
+    def flow_and_sens(piece, y0, s0, s1, p, lam, h, c, tol):
         # sensitivities to the initial state and to the parameter (forward mode)
-        return (flow(y0, piece, s0, s1, p, lam, h, tol),
-                *jax.jacfwd(flow, argnums=(0, 4))(y0, piece, s0, s1, p, lam, h, tol))
+        return (flow(y0, piece, s0, s1, p, lam, h, c, tol),
+                *jax.jacfwd(flow, argnums=(0, 4))(y0, piece, s0, s1, p, lam, h, c, tol))
 
-    def dense(piece, y0, s0, s1, p, lam, h, tol, unit):
+    def dense(piece, y0, s0, s1, p, lam, h, c, tol, unit):
         ts = s0 + (s1 - s0) * unit
-        ys = solve_segment(piece, y0, s0, s1, p, lam, h, tol, diffrax.SaveAt(ts=ts)).ys
-        fs = jax.vmap(lambda s, y: vector_field(piece, s, y, p, lam, h))(ts, ys)
+        ys = solve_segment(piece, y0, s0, s1, p, lam, h, c, tol, diffrax.SaveAt(ts=ts)).ys
+        fs = jax.vmap(lambda s, y: vector_field(piece, s, y, p, lam, h, c))(ts, ys)
         return ts, ys, fs
 
-    ax = (0, 0, 0, 0, None, None, None, None)
+    ax = (0, 0, 0, 0, None, None, None, None, None)
     return (jax.jit(jax.vmap(flow_and_sens, in_axes=ax)),
             jax.jit(jax.vmap(dense, in_axes=ax + (None,))))
 
@@ -151,7 +152,8 @@ class ShootingSystem:
         self.evaluations = 0
 
     def _args(self, p):
-        return (float(p), self.bvp.material_parameter, self.bvp.scene.h)
+        return (float(p), self.bvp.material_parameter, self.bvp.scene.h,
+                self.bvp.field_parameters)
 
     def from_profile(self, profile) -> np.ndarray:
         y = np.asarray(profile(np.append(self.s0, self.bvp.b[-1])), dtype=float)
