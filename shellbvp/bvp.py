@@ -76,6 +76,9 @@ FOLD_CHUNK = 24
 #: and one program (~5-8 s to compile for a relaxed energy) serves the solvers' nodes and
 #: the energy quadrature's (which needed a second one at its own size)
 STATE_CHUNK = 72
+#: largest relative distance between a state and the states of a warm start that is carried
+#: to another discretisation with it (:meth:`ShellBVP.carried_hint`)
+HINT_CARRY = 1e-3
 #: steps in which the inner root is carried across an interface as the fields jump
 #: (post-processing only; the methods carry it from their previous iterate)
 INTERFACE_STEPS = 16
@@ -104,16 +107,17 @@ class Collocated(NamedTuple):
 
 class Nodal(NamedTuple):
     """The right-hand side at nodes of every piece: f (P, 6, m), df/dy (P, 6, 6, m),
-    df/dp (P, 6, m), ``hint``, an opaque warm start for the next evaluation, and
-    ``root_move``, the largest relative move of the inner roots (lam1, k1) from where their
-    Newton started (inf from a cold start): the derivatives are taken at the inner
-    Newton's last iterate, at most that far from the root."""
+    df/dp (P, 6, m), ``hint``, an opaque warm start for the next evaluation, and ``start``,
+    where the inner Newton for the roots (lam1, k1) started at every node (nodes, 2; nan:
+    the pole-like guess): the derivatives are taken at its last iterate, at most as far
+    from the roots as they are from their start
+    (:attr:`shellbvp.methods.base.NodalSystem.root_move`)."""
 
     f: np.ndarray
     J: np.ndarray
     fp: np.ndarray
     hint: object = None
-    root_move: float = math.inf
+    start: object = None
 
 
 class _Hint(NamedTuple):
@@ -579,32 +583,34 @@ class ShellBVP:
         X, _, ok, _, _ = self._scan(s, Y, p)
         return np.where(ok[:, None], X[:, [0, 2]], np.nan)
 
-    def resampled_hint(self, hint, P, resample):
-        """The warm start ``hint`` of an evaluation at nodes (P, m) carried to other nodes
-        of the same pieces: ``resample`` maps arrays (P, k, m) at the old nodes to the new
-        ones (an interpolation). The states, roots and root derivatives are smooth along
-        the meridian, so the carried roots start the inner Newton next to its roots."""
-        def resampled(a):
-            a = np.asarray(a, dtype=float)
-            b = np.moveaxis(a.reshape(P, -1, math.prod(a.shape[1:])), 1, 2)
-            return np.moveaxis(resample(b), 2, 1).reshape(-1, *a.shape[1:])
-
-        return _Hint(resampled(hint.y), hint.p, resampled(hint.q), resampled(hint.dq))
+    def carried_hint(self, hint, Y, Y_new, p, resample):
+        """A warm start for an evaluation at states Y_new (P, 6, m') on other nodes of the
+        same pieces, from ``hint``, that of an evaluation at nodes (P, m) near the states Y
+        (P, 6, m) there: its roots carried to Y along their derivatives and resampled
+        (``resample`` maps arrays (P, k, m) to the new nodes; the roots are smooth along
+        each piece). None unless Y is within HINT_CARRY of the hint's states (relative):
+        from farther, e.g. a fold bracketed away from the last continuation step, the
+        carried roots can be a worse start than the pole-like guess."""
+        y = _flat_nodes(Y)
+        if not isinstance(hint, _Hint) or hint.y.shape != y.shape or \
+                np.max(np.abs(y - hint.y)) > HINT_CARRY * (1.0 + np.max(np.abs(y))):
+            return None
+        d = np.concatenate([y - hint.y, np.full((y.shape[0], 1), p - hint.p)], 1)
+        q = hint.q + np.einsum("nij,nj->ni", hint.dq, d)
+        P = Y.shape[0]
+        q_new = np.moveaxis(resample(np.moveaxis(q.reshape(P, -1, 2), 1, 2)), 2, 1)
+        n = P * q_new.shape[1]
+        return _Hint(_flat_nodes(Y_new), float(p), q_new.reshape(n, 2), np.zeros((n, 2, 7)))
 
     def _nodal_result(self, s, Y, p, out, q0) -> Nodal:
         F, f, J, fp, ok, q, dq = out
-        # (a start that is not finite or has lam1 <= 0 is replaced by the pole-like guess)
-        warm = np.all(np.isfinite(q0)) and np.all(q0[:, 0] > 0)
-        move = float(np.max(np.maximum(np.abs(q[:, 0] - q0[:, 0]) / np.abs(q[:, 0]),
-                                       np.abs(q[:, 1] - q0[:, 1]) / (1.0 + np.abs(q[:, 1]))))) \
-            if warm else math.inf
         P, m = s.shape
         self.evaluations += 1
         self._check(F, ok, s, p)
         f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
         J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
         fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
-        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq), move)
+        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq), q0)
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and

@@ -77,9 +77,19 @@ class NodalSystem:
         self.evaluations = 0
         self._hint = None       # warm start of the BVP's inner solve (cost only)
         self._monitor = None    # (U, monitor at U) of the last evaluation
-        #: the largest relative move of the BVP's inner roots from their warm start in the
-        #: last evaluation (inf after a cold start): its Jacobian was taken that close to them
-        self.root_move = math.inf
+        self._roots = (None, None)  # (start, roots) of the BVP's inner Newton, last evaluation
+
+    @property
+    def root_move(self) -> float:
+        """The largest relative distance of the BVP's inner roots from their start in the
+        last evaluation (inf after a cold start): its Jacobian was taken that close to
+        them (where the BVP reports its starts; nan starts are the pole-like guess)."""
+        start, roots = self._roots
+        if start is None or roots is None or not (np.all(np.isfinite(start))
+                                                  and np.all(start[:, 0] > 0)):
+            return math.inf
+        return float(max(np.max(np.abs(roots[:, 0] - start[:, 0]) / np.abs(roots[:, 0])),
+                         np.max(np.abs(roots[:, 1] - start[:, 1]) / (1 + np.abs(roots[:, 1])))))
 
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
@@ -128,7 +138,7 @@ class NodalSystem:
         # a warm start changes cost only: the inner Newton converges to 1e-13 from any start
         # (and where the Jacobian is taken, at most ``root_move`` from the root)
         self._hint = nodal.hint
-        self.root_move = getattr(nodal, "root_move", math.inf)
+        self._roots = (getattr(nodal, "start", None), getattr(nodal.hint, "q", None))
         return nodal, bc, mon
 
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)

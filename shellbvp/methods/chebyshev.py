@@ -256,16 +256,17 @@ class ChebyshevSystem(NodalSystem):
 
     def transfer(self, U, p, other) -> np.ndarray:
         """U carried onto ``other``; on another degree of the same BVP the inner roots of
-        the last evaluation go along (interpolated), so that its first evaluation starts
-        the inner Newton next to its roots, as the next evaluation on this degree would:
-        its Jacobian is then exact to round-off, not taken ~1e-5 from a cold root."""
+        the last evaluation go along where it was at (nearly) U, so that the first
+        evaluation there starts the inner Newton next to its roots, as the next one on this
+        degree would: its Jacobian is then exact to round-off, not taken ~1e-5 from a cold
+        root (:attr:`root_move` says which)."""
         V = super().transfer(U, p, other)
-        carry = getattr(self.bvp, "resampled_hint", None)
-        if carry is not None and other.bvp is self.bvp and self._hint is not None \
-                and other is not self:
-            def resample(a):                     # (P, k, N + 1) -> (P, k, other.N + 1)
-                return np.stack([evaluate(c, other.t) for c in coefficients(a)])
-            other._hint = carry(self._hint, self.P, resample)
+        carry = getattr(self.bvp, "carried_hint", None)
+        if carry is not None and other.bvp is self.bvp and other is not self \
+                and self._hint is not None:
+            other._hint = carry(self._hint, self.split(U), other.split(V), p,
+                                lambda a: np.stack([evaluate(c, other.t)
+                                                    for c in coefficients(a)]))
         return V
 
     def on(self, bvp) -> "ChebyshevSystem":
