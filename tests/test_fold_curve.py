@@ -98,6 +98,31 @@ def test_fold_newton_converges_quadratically(fold):
     assert f.stats["curvature"] == pytest.approx(fold.stats["curvature"], rel=1e-3)
 
 
+def test_a_finer_rung_takes_one_update_only_from_carried_roots(fold):
+    """A fold carried to the next degree with its inner roots (``transfer``) is re-solved
+    in one update where the error that update can leave is below the tolerance (from
+    degree 24 on here; 20 -> 24 moves the fold too far), to the fold a converged Newton
+    (tol 1e-14) finds from the same state with cold inner roots, which never stops after
+    one update: 1e-12 apart on every rung. (Without carried roots the first Jacobian is
+    taken up to ~1e-5 from them; one update then left 1.2e-11 in kappa_s in a sweep.)"""
+    current = solve_fold(fold.system, fold.U, fold.p)
+    updates = []
+    for _ in range(3):
+        finer = current.system.refined()
+        start = current.system.transfer(current.U, current.p, finer)
+        carried = solve_fold(finer, start, current.p, refining=True)
+        assert math.isfinite(finer.root_move) and finer.root_move < 1e-5
+        fresh = finer.on(finer.bvp)                  # the same degree, no roots carried
+        fresh.evaluate(start, current.p)
+        assert fresh.root_move == math.inf           # a cold start bounds nothing
+        cold = solve_fold(finer.on(finer.bvp), start, current.p, refining=True, tol=1e-14)
+        assert cold.stats["newton_iterations"] >= 2
+        assert abs(carried.p - cold.p) <= 1e-12
+        updates.append(carried.stats["newton_iterations"])
+        current = carried
+    assert updates[1:] == [1, 1], updates
+
+
 def test_onset_is_the_cusp_of_the_fold_curve():
     """onset() follows the fold curve in (T, kappa) with w prescribed up to w = H; the
     independent route is today's: the root of the flat-state slope dkappa/dw (each value
