@@ -38,7 +38,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..results import Fold
 from .folds import climb
-from .newton import ROUND_OFF_STEP, bordered_lu
+from .newton import CONTRACTION_BOUND, ROUND_OFF_STEP, bordered_lu
 from .options import ContinuationOptions
 
 __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
@@ -46,9 +46,6 @@ __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
 #: relative update at which the fold Newton stops (as the branch Newton of a fold), or
 #: that its predicted next update is below
 FOLD_STEP_TOL = 1e-10
-#: bound on the quadratic-convergence constant C (next update ~ C update^2) measured from
-#: the last two updates
-CONTRACTION_BOUND = 100.0
 #: the update below which the fold Newton keeps the gradient of dp/dm of the last iterate
 REUSE_STEP = 1e-6
 #: the predicted next update at which the iteration stops, as a fraction of the tolerance

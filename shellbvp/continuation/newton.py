@@ -22,7 +22,8 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ConvergenceError
 
-__all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "FAIL_CONTRACTION"]
+__all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "FAIL_CONTRACTION",
+           "CONTRACTION_BOUND"]
 
 #: a corrector whose update is not at least this factor smaller than the previous one is
 #: outside its basin: fail fast, so the continuation retries with a shorter step
@@ -32,6 +33,10 @@ FAIL_CONTRACTION = 0.5
 #: stall at updates of ~1e-9 (the inner constitutive root is itself accepted at its floor,
 #: 1e-9). Such an iterate is converged to about that update (``NewtonResult.p_noise``).
 ROUND_OFF_STEP = 1e-8
+#: bound on the quadratic-convergence constant C (next update ~ C update^2) measured from
+#: the last two updates: above it the iteration is not in that regime (a stall, e.g. on an
+#: inexact Jacobian), and no update is predicted from it
+CONTRACTION_BOUND = 100.0
 
 
 class _Factor:
@@ -108,10 +113,13 @@ class NewtonResult:
 
 
 def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
-           fail_fast: bool = True, min_iterations: int = 1) -> NewtonResult:
+           fail_fast: bool = True, min_iterations: int = 1,
+           predict: bool = False) -> NewtonResult:
     """Bordered Newton on R(U, p) = 0, alpha m(U) + row . U + beta p = c (row optional).
 
-    Converged when the update is below ``tol`` relative to the unknowns, or when it stalls
+    Converged when the update is below ``tol`` relative to the unknowns (with ``predict``,
+    also when the next one, C update^2 with C from the last two updates while C is at most
+    CONTRACTION_BOUND, is: the evaluation that would only confirm it is saved), or when it stalls
     twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
     last update of p), after at least ``min_iterations`` iterations (2: the point is then
     the result of a step taken with the Jacobian of a point already within tol, not of a
@@ -151,7 +159,12 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         step = max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
                    abs(d[-1]) / (1.0 + abs(p)))
         history.append((float(np.max(np.abs(r))), step))
-        if step <= tol and it >= min_iterations:
+        if predict and it >= 2 and history[-2][1] > 0:
+            C = step / history[-2][1] ** 2         # quadratic convergence: next ~ C step^2
+            converged = C <= CONTRACTION_BOUND and C * step**2 <= tol
+        else:
+            converged = False
+        if (step <= tol or converged) and it >= min_iterations:
             m, gm = system.monitor(U)
             return NewtonResult(U, p, m, True, it, history, fac, gm)
         stalled = it >= 2 and step > FAIL_CONTRACTION * history[-2][1]
