@@ -90,11 +90,8 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
         tp = b.tangent[1]
         row = b.dU / n
         c = float(row @ b.U) + tp * b.p + ds
-        # the corrector stops where quadratic convergence predicts its next update below
-        # newton_tol (one evaluation per step saved; the start and the fold location keep
-        # the plain rule)
         res = newton(system, b.U + ds * b.dU, b.p + ds * tp, 0.0, tp, c, row=row,
-                     tol=o.newton_tol, maxiter=o.newton_maxiter, predict=True)
+                     tol=o.newton_tol, maxiter=o.newton_maxiter, predict=o.predicted_stop)
         why = ""
         if res.ok:
             v, _, dp = tangent(res)

@@ -26,6 +26,11 @@ class ContinuationOptions:
         newton_tol: the corrector stops when the update is below this relative to the
             unknowns (quadratic convergence: the point is then good to ~newton_tol^2).
         newton_maxiter: corrector iterations at most.
+        predicted_stop: the corrector also stops where quadratic convergence predicts its
+            next update (C update^2, C from the last two updates) below newton_tol, which
+            saves the evaluation that would only confirm it; the point is then good to
+            ~newton_tol rather than ~newton_tol^2. For computations that use the branch
+            only to bracket a fold (:meth:`to_first_fold`).
         fold_tol: every fold is refined (the method's ladder of finer discretisations)
             until its parameter changes by at most this; the change is its error estimate.
         max_refinements: rungs of that ladder at most (then a ConvergenceError).
@@ -41,6 +46,7 @@ class ContinuationOptions:
     newton_maxiter: int = 15
     fold_tol: float = 1e-9
     max_refinements: int = 30
+    predicted_stop: bool = False
 
     def __post_init__(self):
         if not all(math.isfinite(v) for v in (self.ds, self.ds_min, self.ds_max)) or not (
@@ -53,6 +59,9 @@ class ContinuationOptions:
                 raise ValueError(f"{name} must lie in (0, 1), got {v!r}")
         if not (0 < self.turn <= math.pi / 2):
             raise ValueError(f"turn must lie in (0, pi/2], got {self.turn!r}")
+        if not isinstance(self.predicted_stop, bool):
+            raise ValueError(f"predicted_stop must be True or False, got "
+                             f"{self.predicted_stop!r}")
         for name, lo in (("max_steps", 2), ("newton_maxiter", 2), ("max_refinements", 1)):
             v = getattr(self, name)
             if not (isinstance(v, int) and v >= lo):
@@ -62,10 +71,12 @@ class ContinuationOptions:
     def to_first_fold(cls, fold_tol: float = 1e-9) -> "ContinuationOptions":
         """Long steps for a computation that needs only the first fold (kappa_s): the step
         control shortens them where the branch turns, and the fold is located exactly
-        afterwards, so long steps cost no accuracy. (A corrector stopped at 1e-4 saved 10 %
-        of the evaluations but stalled next to the onset cusp, where the branch is delicate
-        and the predictor needs accurate tangents.)"""
-        return cls(ds=5.0, ds_max=100.0, fold_tol=fold_tol)
+        afterwards, so long steps cost no accuracy; the corrector stops on its predicted
+        next update (``predicted_stop``: 21 instead of 25 evaluations per kappa_s, values
+        unchanged to 2e-14). (A corrector stopped at 1e-4 saved 10 % of the evaluations but
+        stalled next to the onset cusp, where the branch is delicate and the predictor
+        needs accurate tangents.)"""
+        return cls(ds=5.0, ds_max=100.0, fold_tol=fold_tol, predicted_stop=True)
 
     def with_(self, **changes) -> "ContinuationOptions":
         return replace(self, **changes)
