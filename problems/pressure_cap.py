@@ -38,7 +38,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-
 import shellbvp
 from shellbvp import ContinuationOptions, Scene
 

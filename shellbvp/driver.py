@@ -8,14 +8,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .bvp import ShellBVP, reference_state
 from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fold_sensitivity,
-                           ladder, newton,
-                           pseudo_arclength, refine_fold, tangent)
+                           ladder, newton, pseudo_arclength, refine_fold, tangent)
 from .errors import ConvergenceError
 from .methods import as_method
 from .ellipticity import elliptic_point, stall_reason
@@ -330,8 +329,6 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
     the snap is born. Raises ValueError for a fold of another method or a non-finite or
     non-positive step, ConvergenceError where the curve cannot be followed (e.g. past its
     end, where the fold ceases to exist)."""
-    from dataclasses import replace
-
     if not (hasattr(near, "system") and hasattr(near.system, "curvature_terms")):
         raise ValueError("fold_curve_point needs a fold found by the spectral method")
     if not (math.isfinite(monitor) and math.isfinite(step) and step > 0):

@@ -81,9 +81,8 @@ def test_fold_function_derivatives_equal_finite_differences(fold):
 
 def test_fold_newton_converges_quadratically(fold):
     """From a state 1e-3 off the fold the updates fall with order >= 1.8 (measured 2.2), to
-    the fold the
-    branch route found on the same system; the pivot is d2p/dm2, which the branch route
-    estimates from secants of dp/dm (a few digits)."""
+    the fold the branch route found on the same system; the pivot is d2p/dm2, which the
+    branch route estimates from secants of dp/dm (a few digits)."""
     system = fold.system
     rng = np.random.default_rng(3)
     start = fold.U + 1e-3 * smooth_direction(fold, rng)

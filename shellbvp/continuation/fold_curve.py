@@ -117,7 +117,6 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         reuse = it >= 2 and history[-1][2] <= REUSE_STEP
         R, _, Rp, m, gm, factor, v, sigma, sU_new, sp_new = fold_system_terms(
             system, U, p, curvature=not reuse)
-        root_move = getattr(system, "root_move", math.inf)
         if not reuse:
             sU, sp = sU_new, sp_new
         x = np.append(v, sigma)
@@ -149,6 +148,7 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
             # one update from a start ~1e-10 away leaves C (step^2 + delta step), delta the
             # relative error of the Jacobian: its inner iterate's distance from the roots,
             # at most root_move (~C root_move^2 after a warm start; inf after a cold one)
+            root_move = getattr(system, "root_move", math.inf)  # of this evaluation
             left = CONTRACTION_BOUND * (step**2 + root_move * step)
             if left <= PREDICTED_FRACTION * tol:
                 break

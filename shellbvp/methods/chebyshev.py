@@ -90,6 +90,13 @@ def evaluate(coef: np.ndarray, t) -> np.ndarray:
     return np.polynomial.chebyshev.chebval(1.0 - 2.0 * np.asarray(t, dtype=float), coef.T)
 
 
+def _interpolant(values: np.ndarray):
+    """t -> the interpolants of values (P, k, N + 1) at :func:`chebyshev_points` of every
+    piece, evaluated at t: (P, k, len(t))."""
+    c = coefficients(values)
+    return lambda t: np.stack([evaluate(ci, t) for ci in c])
+
+
 def refine_step(N: int) -> int:
     """Degrees added per rung at degree N: ``REFINE_STEP`` per 32 degrees. The error falls
     like rho^-N with ln rho ~ sqrt(h) / Theta (the edge layer's width over the meridian's
@@ -250,9 +257,8 @@ class ChebyshevSystem(NodalSystem):
         return gU.ravel(), g_p, g_th + w0 * float(mth)
 
     def dense(self, U, p=None):
-        c = coefficients(self.split(U))
-        return lambda t: np.concatenate([evaluate(c[i], np.atleast_1d(t))
-                                         for i in range(self.P)])
+        at = _interpolant(self.split(U))
+        return lambda t: at(np.atleast_1d(t)).reshape(self.P * self.n, -1)
 
     def transfer(self, U, p, other) -> np.ndarray:
         """U carried onto ``other``; on another degree of the same BVP the inner roots of
@@ -265,8 +271,7 @@ class ChebyshevSystem(NodalSystem):
         if carry is not None and other.bvp is self.bvp and other is not self \
                 and self._hint is not None:
             other._hint = carry(self._hint, self.split(U), other.split(V), p,
-                                lambda a: np.stack([evaluate(c, other.t)
-                                                    for c in coefficients(a)]))
+                                lambda a: _interpolant(a)(other.t))
         return V
 
     def on(self, bvp) -> "ChebyshevSystem":
