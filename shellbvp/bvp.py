@@ -132,7 +132,7 @@ class _Hint(NamedTuple):
 
 def _flat_nodes(Y):
     """Y (P, 6, m) -> (P m, 6), nodes piece-major."""
-    return np.moveaxis(np.asarray(Y, dtype=float), 1, -1).reshape(-1, 6)
+    return np.asarray(Y, dtype=float).transpose(0, 2, 1).reshape(-1, 6)
 
 
 def _chunk(n: int) -> int:
@@ -538,9 +538,10 @@ class ShellBVP:
     def _check(self, F, ok, s, p):
         P, m = s.shape
         F = F.reshape(P, m, 5)
-        for i in range(P):
-            self.scene.check_fields(F[i].T, i, p)
-        if not np.all(ok):
+        if not self.scene.fields_admissible(F):     # all pieces at once; name the culprit
+            for i in range(P):
+                self.scene.check_fields(F[i].T, i, p)
+        if not ok.all():
             k = int(np.argmin(ok))
             raise ConvergenceError(
                 f"inner Newton for (lam1, k1) did not converge at s = {s.ravel()[k]:.6g} "
@@ -567,8 +568,9 @@ class ShellBVP:
         if isinstance(hint, _Hint) and hint.q.shape == (P * m, 2):
             # the previous root carried to the new iterate along its implicit derivative
             # dq = [dq/dy, dq/dp]: the inner Newton then starts O(|change|^2) from its root
-            d = np.concatenate([_flat_nodes(Y) - hint.y, np.full((P * m, 1), p - hint.p)], 1)
-            return s, Y, hint.q + np.einsum("nij,nj->ni", hint.dq, d)
+            dq = hint.dq
+            q = hint.q + (dq[:, :, :6] @ (_flat_nodes(Y) - hint.y)[:, :, None])[:, :, 0]
+            return s, Y, q + dq[:, :, 6] * (p - hint.p)
         return s, Y, self._start(s, Y, p)
 
     def _start(self, s, Y, p):
@@ -602,15 +604,16 @@ class ShellBVP:
         n = P * q_new.shape[1]
         return _Hint(_flat_nodes(Y_new), float(p), q_new.reshape(n, 2), np.zeros((n, 2, 7)))
 
-    def _nodal_result(self, s, Y, p, out, q0) -> Nodal:
+    def _nodal_result(self, s, Y, p, out, q0, yf=None) -> Nodal:
         F, f, J, fp, ok, q, dq = out
         P, m = s.shape
         self.evaluations += 1
         self._check(F, ok, s, p)
-        f = np.moveaxis(f.reshape(P, m, 6), -1, 1)
-        J = np.moveaxis(J.reshape(P, m, 6, 6), 1, -1)
-        fp = np.moveaxis(fp.reshape(P, m, 6), -1, 1)
-        return Nodal(f, J, fp, _Hint(_flat_nodes(Y), float(p), q, dq), q0)
+        f = f.reshape(P, m, 6).transpose(0, 2, 1)
+        J = J.reshape(P, m, 6, 6).transpose(0, 2, 3, 1)
+        fp = fp.reshape(P, m, 6).transpose(0, 2, 1)
+        return Nodal(f, J, fp, _Hint(_flat_nodes(Y) if yf is None else yf, float(p), q, dq),
+                     q0)
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
@@ -631,13 +634,13 @@ class ShellBVP:
                 piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.material_parameter,
                 sc.h, self.field_parameters, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps,
                 sc.theta)
-            return [np.asarray(o)[:P * m] for o in nod], bc, mon
+            return [o[:P * m] for o in nod], bc, mon
 
         out, bc, mon = call(q0)
-        if not np.all(out[4]):         # a stale warm start: restart along the meridian
+        if not out[4].all():           # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
             out, bc, mon = call(q0)
-        nodal = self._nodal_result(s, Y, p, out, q0)
+        nodal = self._nodal_result(s, Y, p, out, q0, yf)
         m_, (ga, gb) = mon
         return Collocated(nodal, self._boundary_result(bc, p),
                           (float(m_), np.asarray(ga), np.asarray(gb)))
@@ -752,8 +755,9 @@ class ShellBVP:
         return tuple(np.asarray(o) for o in out)
 
     def _boundary_result(self, out, p):
-        r, Ja, Jb, Jp, ok, F0 = (np.asarray(v) for v in out)
-        self.scene.check_fields(F0[:, None], 0, p)
+        r, Ja, Jb, Jp, ok, F0 = out
+        if not self.scene.fields_admissible(F0[None, :]):
+            self.scene.check_fields(F0[:, None], 0, p)
         if not ok:
             raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "
                                    f"({self.scene.parameter} = {p:g})")

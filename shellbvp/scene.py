@@ -144,11 +144,19 @@ class Scene:
             return self.fields(piece, s, p, np.asarray(self.field_parameters))
         return self.fields(piece, s, p)
 
+    def fields_admissible(self, F) -> bool:
+        """Whether field values F (..., k), (g1, g2, kb1, kb2[, pressure]) along the last
+        axis, are all admissible (finite, g > 0, g = 1 without metric stimulus): the cheap
+        test of every evaluation; :meth:`check_fields` names what fails."""
+        g = F[..., :2]
+        return bool(np.isfinite(F).all() and g.min() > 0
+                    and (self.metric or (g.min() == 1 and g.max() == 1)))
+
     def check_fields(self, out, piece, p):
         """Raise a named ValueError unless the fields (g1, g2, kb1, kb2[, pressure]) are
         admissible."""
         F = np.asarray(out, dtype=float)
-        if np.isfinite(F).all() and (F[:2] > 0).all() and (self.metric or (F[:2] == 1).all()):
+        if self.fields_admissible(F.T):
             return out      # the common case, checked at once
         names = ("g1", "g2", "kb1", "kb2", "pressure")
         for n, v in zip(names, F):

@@ -12,11 +12,10 @@ beta = tau_p is the pseudo-arclength condition. dR/dU may be dense or scipy.spar
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
+from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
@@ -51,14 +50,17 @@ class _Factor:
             self.solve = self._lu.solve
             self.solve_transposed = lambda b: self._lu.solve(b, trans="T")
         else:
-            with warnings.catch_warnings():
-                warnings.simplefilter("error", sla.LinAlgWarning)
-                try:
-                    lu = sla.lu_factor(A, check_finite=False)
-                except sla.LinAlgWarning as exc:
-                    raise np.linalg.LinAlgError(str(exc)) from None
-            self.solve = lambda b: sla.lu_solve(lu, b, check_finite=False)
-            self.solve_transposed = lambda b: sla.lu_solve(lu, b, trans=1, check_finite=False)
+            # LAPACK directly, in place, on A^T: A is this factor's own C-ordered copy, so
+            # A^T is Fortran-ordered and factors with no copy (scipy's lu_factor would copy
+            # it twice and check it, a tenth of a small system's factorisation); A x = b is
+            # then A^T's transposed solve
+            lu, piv, info = _getrf(A.T, overwrite_a=True)
+            if info > 0:
+                raise np.linalg.LinAlgError(f"exactly singular: U[{info - 1}, {info - 1}] = 0")
+            if info < 0:
+                raise ValueError(f"getrf: illegal argument {-info}")
+            self.solve = lambda b: _getrs(lu, piv, b, trans=1)[0]
+            self.solve_transposed = lambda b: _getrs(lu, piv, b)[0]
 
 
 def _bordered(J, Rp, last_row, beta):

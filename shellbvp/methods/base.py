@@ -144,19 +144,23 @@ class NodalSystem:
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)
     dense_jacobian = True
 
+    def _columns(self, i, node):
+        """The columns of all n components of piece i at ``node``: a strided slice."""
+        start = self.col(i, 0) + node
+        return slice(start, start + self.n * (self.M + 1), self.M + 1)
+
     def evaluate(self, U, p):
         Y = self.split(U)
-        N1, P, M, n = self.M + 1, self.P, self.M, self.n
+        P, M, n = self.P, self.M, self.n
         nodal, (rb, Ja, Jb, Jpb), mon = self._collocate(Y, p)
         self._monitor = (np.array(U, dtype=float), mon)   # Newton asks for it at the same U
         blocks = self.interior(Y, p, nodal)
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
-        ia = [self.col(0, c) for c in range(n)]              # y(eps): piece 0, node 0
-        ib = [self.col(P - 1, c) + N1 - 1 for c in range(n)]  # y(theta): last piece, node M
-        comps = np.arange(n)
-        # (row offset, column offset, block) triplets, then one assembly
-        parts = [(0, ia, Ja), (0, ib, Jb)]
+        eye = np.eye(n)
+        # (row offset, columns, block) triplets, then one assembly: an n x n block on the
+        # n columns of one node (a strided slice), or a block on consecutive columns
+        parts = [(0, self._columns(0, 0), Ja), (0, self._columns(P - 1, M), Jb)]
         row = n
         for i, (Ri, Ji, Rpi) in enumerate(blocks):
             R.append(Ri)
@@ -166,23 +170,23 @@ class NodalSystem:
             if i < P - 1:   # continuity of y at the interface b_i = a_{i+1}
                 R.append(Y[i, :, -1] - Y[i + 1, :, 0])
                 Rp.append(np.zeros(n))
-                parts.append((row, [self.col(i, c) + N1 - 1 for c in comps], np.eye(n)))
-                parts.append((row, [self.col(i + 1, c) for c in comps], -np.eye(n)))
+                parts.append((row, self._columns(i, M), eye))
+                parts.append((row, self._columns(i + 1, 0), -eye))
                 row += n
         if self.dense_jacobian:
             J = np.zeros((self.size, self.size))
             for r0, c0, B in parts:
-                if isinstance(c0, list):
+                if isinstance(c0, slice):
                     J[r0:r0 + n, c0] += B
                 else:
                     J[r0:r0 + B.shape[0], c0:c0 + B.shape[1]] = B
         else:
             rows, cols, vals = [], [], []
             for r0, c0, B in parts:
-                if isinstance(c0, list):
+                if isinstance(c0, slice):
                     rr, cc = np.nonzero(np.ones((n, n)))
                     rows.append(r0 + rr)
-                    cols.append(np.asarray(c0)[cc])
+                    cols.append(np.arange(c0.start, c0.stop, c0.step)[cc])
                     vals.append(np.asarray(B)[rr, cc])
                 else:
                     B = sps.coo_matrix(B)

@@ -177,12 +177,12 @@ class ChebyshevSystem(NodalSystem):
         out = []
         for i in range(self.P):
             res = Y[i] @ self._PD.T - L[i] * (nod.f[i] @ self._Pm.T)             # (n, N)
-            # d res[c, j] / d Y[c', k] = delta_cc' PD[j, k] - L Pm[j, k] J[c, c', k]
-            blk = -L[i] * self._Pm[None, None, :, :] * nod.J[i][:, :, None, :]  # (n,n,N,N+1)
+            # d res[c, j] / d Y[c', k] = delta_cc' PD[j, k] - L Pm[j, k] J[c, c', k], built
+            # in its final (c, j, c', k) layout (no transposed copy)
+            blk = (-L[i] * self._Pm)[None, :, None, :] * nod.J[i][:, None, :, :]
             for c in range(n):
-                blk[c, c] += self._PD
-            out.append((res.ravel(),
-                        blk.transpose(0, 2, 1, 3).reshape(n * N, n * (N + 1)),
+                blk[c, :, c, :] += self._PD
+            out.append((res.ravel(), blk.reshape(n * N, n * (N + 1)),
                         (-L[i] * (nod.fp[i] @ self._Pm.T)).ravel()))
         return out
 
