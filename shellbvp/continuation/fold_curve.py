@@ -38,7 +38,8 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..results import Fold
 from .folds import climb
-from .newton import CONTRACTION_BOUND, ROUND_OFF_STEP, bordered_lu
+from .newton import (CONTRACTION_BOUND, PREDICTED_FRACTION, ROUND_OFF_STEP, bordered_lu,
+                     one_update_error)
 from .options import ContinuationOptions
 
 __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
@@ -48,9 +49,6 @@ __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
 FOLD_STEP_TOL = 1e-10
 #: the update below which the fold Newton keeps the gradient of dp/dm of the last iterate
 REUSE_STEP = 1e-6
-#: the predicted next update at which the iteration stops, as a fraction of the tolerance
-#: (the prediction C step^2 is good to a factor of a few, not to digits)
-PREDICTED_FRACTION = 0.01
 #: at most this many fold Newton iterations (from a seed of a sweep it takes 2-3)
 FOLD_MAXITER = 12
 
@@ -145,11 +143,8 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         if it >= 2 and (step <= tol or left <= PREDICTED_FRACTION * tol):
             break
         if it == 1 and refining:
-            # one update from a start ~1e-10 away leaves C (step^2 + delta step), delta the
-            # relative error of the Jacobian: its inner iterate's distance from the roots,
-            # at most root_move (~C root_move^2 after a warm start; inf after a cold one)
-            root_move = getattr(system, "root_move", math.inf)  # of this evaluation
-            left = CONTRACTION_BOUND * (step**2 + root_move * step)
+            # one update from a start ~1e-10 away (of this evaluation's Jacobian error)
+            left = one_update_error(step, getattr(system, "root_move", math.inf))
             if left <= PREDICTED_FRACTION * tol:
                 break
         if it >= 2 and step > 0.5 * history[-2][2]:

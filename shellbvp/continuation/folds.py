@@ -36,8 +36,8 @@ class _Slope:
     """dp/dm along the branch at prescribed monitor values, remembering every solve (the
     nearest one, with its exact tangent, is the predictor for the next)."""
 
-    def __init__(self, system, known, tol):
-        self.system, self.tol = system, tol
+    def __init__(self, system, known, tol, one_update=False):
+        self.system, self.tol, self.one_update = system, tol, one_update
         self.known = list(known)   # (m, U, p, dU/dm, dp/dm)
         self.solves = self.iterations = 0
         self.round_off = 0.0       # largest uncertainty of p left by a Newton round-off floor
@@ -48,7 +48,7 @@ class _Slope:
                 return k[4]
         m0, U0, p0, dU0, g0 = min(self.known, key=lambda k: abs(k[0] - mv))
         res = newton(self.system, U0 + (mv - m0) * dU0, p0 + (mv - m0) * g0, 1.0, 0.0, mv,
-                     tol=self.tol)
+                     tol=self.tol, one_update=self.one_update)
         self.solves += 1
         self.iterations += res.iterations
         self.round_off = max(self.round_off, res.p_noise)
@@ -93,7 +93,7 @@ def locate_fold(system, a, b, *, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_T
 
 def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
                 window=POLISH_WINDOW, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_TOL,
-                maxiter=POLISH_MAXITER) -> Fold:
+                maxiter=POLISH_MAXITER, refining: bool = False) -> Fold:
     """Re-locate a fold known approximately (e.g. on a coarser discretisation): Newton's
     method on dp/dm = 0 from ``monitor``, with d2p/dm2 from ``curvature`` (e.g. the fold's on
     a coarser rung, which is the same to a few digits) or a first difference over ``step``,
@@ -101,18 +101,22 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
     that would only confirm it is saved) or the last one is at most ``monitor_tol``: near
     the fold p = p* + c (m - m*)^2 / 2, so p is then within c monitor_tol^2 / 2 of its fold
     value (the returned stats carry c as ``curvature`` and (dp/dm)^2 / 2|c| at the returned
-    point, that distance in p, as ``location``).
+    point, that distance in p, as ``location``). ``refining``: U, p, monitor are the fold
+    of a coarser discretisation of the same problem carried over (a finer rung of the
+    ladder): its first Newton solve may then stop after one update
+    (:func:`shellbvp.continuation.newton.newton`'s ``one_update``).
 
     Raises ConvergenceError if the iteration does not converge or leaves
     [monitor - window, monitor + window].
     """
     t0 = time.perf_counter()
-    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol, min_iterations=2)
+    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol, min_iterations=2,
+                 one_update=refining, predict=True)
     if not res.ok:
         raise ConvergenceError(f"fold polishing: Newton failed at monitor {monitor:.10g}: "
                                f"{res.history}")
     v, _, dp = tangent(res)
-    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol)
+    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol, one_update=True)
     slope.round_off = res.p_noise
     m0, g0 = monitor, dp
     if curvature is None or not math.isfinite(curvature) or curvature == 0:
@@ -287,7 +291,7 @@ def ladder(system, U, p, monitor, curvature=None, *,
     def advance(finer, current):
         return polish_fold(finer, current.system.transfer(current.U, current.p, finer),
                            current.p, current.monitor, monitor_tol=m_tol,
-                           curvature=current.stats["curvature"])
+                           curvature=current.stats["curvature"], refining=True)
 
     # the rungs share the monitor the fold was located at (the finer one starts there and
     # stops when its predicted move is below the monitor tolerance), so the change between

@@ -31,6 +31,11 @@ class ContinuationOptions:
             saves the evaluation that would only confirm it; the point is then good to
             ~newton_tol rather than ~newton_tol^2. For computations that use the branch
             only to bracket a fold (:meth:`to_first_fold`).
+        fold_probe: where the slope dp/dm of the last two points predicts a fold within
+            the next step, the next point is taken with the monitor prescribed just past
+            the predicted fold (twice as far as predicted) instead, so that the fold's
+            bracket is tight and its location starts close (the ordinary step where that
+            fails). For computations that need the first fold (:meth:`to_first_fold`).
         fold_tol: every fold is refined (the method's ladder of finer discretisations)
             until its parameter changes by at most this; the change is its error estimate.
         max_refinements: rungs of that ladder at most (then a ConvergenceError).
@@ -47,6 +52,7 @@ class ContinuationOptions:
     fold_tol: float = 1e-9
     max_refinements: int = 30
     predicted_stop: bool = False
+    fold_probe: bool = False
 
     def __post_init__(self):
         if not all(math.isfinite(v) for v in (self.ds, self.ds_min, self.ds_max)) or not (
@@ -59,9 +65,10 @@ class ContinuationOptions:
                 raise ValueError(f"{name} must lie in (0, 1), got {v!r}")
         if not (0 < self.turn <= math.pi / 2):
             raise ValueError(f"turn must lie in (0, pi/2], got {self.turn!r}")
-        if not isinstance(self.predicted_stop, bool):
-            raise ValueError(f"predicted_stop must be True or False, got "
-                             f"{self.predicted_stop!r}")
+        for name in ("predicted_stop", "fold_probe"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be True or False, got "
+                                 f"{getattr(self, name)!r}")
         for name, lo in (("max_steps", 2), ("newton_maxiter", 2), ("max_refinements", 1)):
             v = getattr(self, name)
             if not (isinstance(v, int) and v >= lo):
@@ -76,7 +83,8 @@ class ContinuationOptions:
         unchanged to 2e-14). (A corrector stopped at 1e-4 saved 10 % of the evaluations but
         stalled next to the onset cusp, where the branch is delicate and the predictor
         needs accurate tangents.)"""
-        return cls(ds=5.0, ds_max=100.0, fold_tol=fold_tol, predicted_stop=True)
+        return cls(ds=5.0, ds_max=100.0, fold_tol=fold_tol, predicted_stop=True,
+                   fold_probe=True)
 
     def with_(self, **changes) -> "ContinuationOptions":
         return replace(self, **changes)
