@@ -86,7 +86,8 @@ def main(argv=None):
         c = pc.pressure_scale(b.scene.h)
         # to the second fold (the lower limit point after the snap), in short steps to draw
         dense = pc.branch(lb, 100.0, n_folds=2, tol=TOL,
-                          options=ContinuationOptions.to_first_fold().with_(ds=2.0, ds_max=2.0))
+                          options=ContinuationOptions.to_first_fold().with_(
+                              ds=2.0, ds_max=2.0, fold_probe=False))
         for p, w, *_, fold in dense.rows():
             branches.append([lb, p / c, w / b.scene.h, int(fold)])
     write_csv(a.out / "pressure_branches.csv",

@@ -55,6 +55,13 @@ W_STOP_RISES = 2.4
 DS_MAX = 20.0
 
 
+def _options(ds_max: float) -> ContinuationOptions:
+    """Long steps to the first fold, from a first step of 5 (the steps these scenes were
+    validated with), without the fold probe: the apex deflection turns with the pressure
+    at the fold, so a point with it prescribed does not bracket the fold."""
+    return ContinuationOptions.to_first_fold().with_(ds=5.0, ds_max=ds_max, fold_probe=False)
+
+
 def unstimulated(piece, s, p):
     """No stimulus: the target metric and curvature are the reference sphere's
     (g1 = g2 = 1, kb1 = kb2 = -1/R0 in the package's sign convention)."""
@@ -131,7 +138,7 @@ def branch(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     sc = scene(lambda_B, R_over_t, nu, material=material, lam=lam, model=model)
     c = pressure_scale(sc.h, nu, material=material, lam=lam)
     H = 1.0 - math.cos(sc.theta)
-    options = (ContinuationOptions.to_first_fold().with_(ds_max=DS_MAX) if options is None
+    options = (_options(DS_MAX) if options is None
                else options).with_(fold_tol=tol * c)
     b = shellbvp.follow(sc, method=method, p0=0.0, n_folds=n_folds,
                         w_stop=(-W_STOP_RISES * H, math.inf), options=options)
@@ -197,7 +204,7 @@ def critical_pressure(lambda_B, *, R_over_t=100.0, nu=0.3, material="koiter", la
         # the apex turned back next to the fold within one step: shorter steps separate them
         b = branch(lambda_B, R_over_t, nu, material=material, lam=lam, model=model,
                    method=method, tol=tol,
-                   options=ContinuationOptions.to_first_fold().with_(ds_max=DS_MAX / 4))
+                   options=_options(DS_MAX / 4))
     sc = b.scene
     c = pressure_scale(sc.h, nu, material=material, lam=lam)
     if not b.folds:

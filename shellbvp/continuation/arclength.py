@@ -112,9 +112,15 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
     ds = o.ds
     probed = 0          # the point a fold probe was last tried from (one try per point)
 
-    def oriented(res, b):
-        v, _, dp = tangent(res)
-        sign = 1.0 if float(v @ b.dU) / n + dp * b.tangent[1] > 0 else -1.0  # keep it
+    def oriented(res, b, probe=False):
+        v, dm, dp = tangent(res)
+        if probe:
+            # the monitor, prescribed, is the coordinate: it keeps moving the way it did at
+            # b (v = dU/dm, dm = 1), so dp/ds changes sign exactly where dp/dm does (the
+            # angle to b's tangent can exceed 90 degrees over a probe's long step)
+            sign = math.copysign(1.0, b.tangent[0] * dm)
+        else:
+            sign = 1.0 if float(v @ b.dU) / n + dp * b.tangent[1] > 0 else -1.0  # keep it
         arc = b.arclength + math.hypot(res.m - b.monitor, res.p - b.p)
         return _point(res, v, dp, sign, arc, n)
 
@@ -140,7 +146,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
             target = _fold_ahead(pts[-2], b, ds * b.tangent[0])
             res = None if target is None else _probe(system, b, target, o)
             if res is not None:
-                new = oriented(res, b)
+                new = oriented(res, b, probe=True)
                 if not (admissible and admissible(new)):
                     accept(new, b)
                     continue
