@@ -41,8 +41,10 @@ class _Slope:
     """dp/dm along the branch at prescribed monitor values, remembering every solve (the
     nearest one, with its exact tangent, is the predictor for the next)."""
 
-    def __init__(self, system, known, tol, one_update=False):
-        self.system, self.tol, self.one_update = system, tol, one_update
+    def __init__(self, system, known, tol, early_stop=False):
+        # early_stop: a solve may stop after one update or on its predicted next update
+        # (newton's one_update, predict) where the error left is below tol
+        self.system, self.tol, self.early_stop = system, tol, early_stop
         self.known = list(known)   # (m, U, p, dU/dm, dp/dm)
         self.update = {}           # m -> the last Newton update of its solve (relative)
         self.solves = self.iterations = 0
@@ -54,7 +56,7 @@ class _Slope:
                 return k[4]
         m0, U0, p0, dU0, g0 = min(self.known, key=lambda k: abs(k[0] - mv))
         res = newton(self.system, U0 + (mv - m0) * dU0, p0 + (mv - m0) * g0, 1.0, 0.0, mv,
-                     tol=self.tol, one_update=self.one_update, predict=self.one_update)
+                     tol=self.tol, one_update=self.early_stop, predict=self.early_stop)
         self.solves += 1
         self.iterations += res.iterations
         self.round_off = max(self.round_off, res.p_noise)
@@ -108,10 +110,14 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
     that would only confirm it is saved) or the last one is at most ``monitor_tol``: near
     the fold p = p* + c (m - m*)^2 / 2, so p is then within c monitor_tol^2 / 2 of its fold
     value (the returned stats carry c as ``curvature`` and (dp/dm)^2 / 2|c| at the returned
-    point, that distance in p, as ``location``). ``refining``: U, p, monitor are the fold
-    of a coarser discretisation of the same problem carried over (a finer rung of the
-    ladder): its first Newton solve may then stop after one update
-    (:func:`shellbvp.continuation.newton.newton`'s ``one_update``).
+    point, that distance in p, as ``location``). Each Newton solve stops as soon as the
+    error it leaves is below ``tol``: on its predicted next update, or after one update from
+    a start next to the solution (:func:`shellbvp.continuation.newton.newton`'s
+    ``predict`` and ``one_update``); dp/dm then comes from the Jacobian before the last
+    update, so the stop on it waits for a solve whose last update is at most
+    ``SLOPE_TRUST * monitor_tol``. ``refining``: U, p, monitor are the fold of a coarser
+    discretisation of the same problem carried over (a finer rung of the ladder), so its
+    first solve may stop after one update too.
 
     Raises ConvergenceError if the iteration does not converge or leaves
     [monitor - window, monitor + window].
@@ -123,7 +129,7 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
         raise ConvergenceError(f"fold polishing: Newton failed at monitor {monitor:.10g}: "
                                f"{res.history}")
     v, _, dp = tangent(res)
-    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol, one_update=True)
+    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol, early_stop=True)
     slope.round_off = res.p_noise
     slope.update[monitor] = res.history[-1][1]
 

@@ -15,9 +15,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
+from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
 
 from ..errors import ConvergenceError
 
@@ -139,10 +139,11 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     last update of p), after at least ``min_iterations`` iterations (2: the point is then
     the result of a step taken with the Jacobian of a point already within tol, not of a
     start whose Jacobian may be inexact, e.g. carried from another discretisation with a
-    cold inner solve). ``one_update``: U is a converged solution of a coarser
-    discretisation carried over; the first update then suffices, whatever
-    ``min_iterations``, where the error it can leave (:func:`one_update_error` with the
-    system's ``root_move``) is below ``PREDICTED_FRACTION * tol``. Returns
+    cold inner solve). ``one_update``: U starts next to the solution (a converged solution
+    carried to another discretisation, or one predicted along the exact tangent from a
+    nearby solution); the first update then suffices, whatever ``min_iterations``, where
+    the error it can leave (:func:`one_update_error` with the system's ``root_move``) is
+    below ``PREDICTED_FRACTION * tol``. Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
     iterations, growing updates, or - with ``fail_fast`` - an update not at least
     ``FAIL_CONTRACTION`` times the one before; the caller decides what to do.
