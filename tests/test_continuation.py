@@ -74,6 +74,16 @@ class ChebyshevBratu:
         return float(self.D[0] @ U), self.D[0].copy()
 
 
+class CountedBratu(ChebyshevBratu):
+    """:class:`ChebyshevBratu` that counts its evaluations (the cost of a continuation)."""
+
+    evaluations = 0
+
+    def evaluate(self, U, p):
+        self.evaluations += 1
+        return super().evaluate(U, p)
+
+
 def test_chebyshev_differentiation_and_coefficients_are_exact_for_polynomials():
     N = 12
     t = chebyshev_points(N)
@@ -109,16 +119,9 @@ def test_predicted_stop_keeps_points_within_the_tolerance_for_fewer_evaluations(
     predicts. On Bratu's branch every point is then within 10 newton_tol of the point
     solved to 1e-13 at its monitor (the plain corrector is ~newton_tol^2 off), the folds
     bracketed are the same, and it costs fewer evaluations."""
-    class Counted(ChebyshevBratu):
-        evaluations = 0
-
-        def evaluate(self, U, p):
-            self.evaluations += 1
-            return super().evaluate(U, p)
-
     runs = {}
     for predicted in (False, True):
-        system = Counted(24)
+        system = CountedBratu(24)
         o = opts(0.5, 2.0, newton_tol=1e-6, predicted_stop=predicted)
         pts, brackets = pseudo_arclength(system, np.zeros(25), 0.0, options=o,
                                          p_stop=(-1.0, 4.0), monitor_stop=(-1.0, 12.0))
@@ -138,16 +141,9 @@ def test_fold_probe_brackets_the_fold_tightly_with_a_branch_point():
     bracket is the closed form, and the probe costs fewer evaluations than the ordinary
     step it replaces (here that step happened to land just past the fold, so the bracket
     is no narrower; on the cap it is four times narrower, ``test_snap``)."""
-    class Counted(ChebyshevBratu):
-        evaluations = 0
-
-        def evaluate(self, U, p):
-            self.evaluations += 1
-            return super().evaluate(U, p)
-
     runs = {}
     for probe in (False, True):
-        system = Counted(24)
+        system = CountedBratu(24)
         o = opts(0.5, 2.0, fold_probe=probe)
         pts, brackets = pseudo_arclength(system, np.zeros(25), 0.0, options=o, n_folds=1,
                                          p_stop=(-1.0, 5.0))
