@@ -50,7 +50,7 @@ from .compiled import point_functions
 from .packed import Packed
 from .errors import ConvergenceError
 from .jaxsetup import jax
-from .scene import Scene
+from .scene import Scene, call_fields
 
 import jax.numpy as jnp  # noqa: E402
 
@@ -135,6 +135,14 @@ def _flat_nodes(Y):
     return np.asarray(Y, dtype=float).transpose(0, 2, 1).reshape(-1, 6)
 
 
+def _carried_roots(hint, y, p):
+    """The roots of ``hint`` carried to the nodal states y (nodes, 6) and parameter p along
+    their implicit derivative dq = [dq/dy, dq/dp]: O(|change|^2) from the roots there."""
+    dq = hint.dq
+    return hint.q + (dq[:, :, :6] @ (y - hint.y)[:, :, None])[:, :, 0] \
+        + dq[:, :, 6] * (p - hint.p)
+
+
 def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
@@ -192,9 +200,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         # compiled equations (the pressure is uniform; a derivative in p reaches it too)
         def F(s, p, c):
             load = 0.0 if pressure is None else pressure(p)
-            values = fields(i, s, p, c) if n_field_parameters else fields(i, s, p)
             return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s
-                              for v in (*values, load)])
+                              for v in (*call_fields(fields, i, s, p, c), load)])
         return F
 
     branches = [field_piece(i) for i in range(P)]
@@ -409,8 +416,7 @@ def _untraceable(fields, P, pressure=None, n_field_parameters=0) -> str:
     if it can; one trace per field function, not one per solve."""
     def trace(i):
         s, p = jnp.float64(0.5), jnp.float64(0.0)
-        values = fields(i, s, p, jnp.zeros(n_field_parameters)) if n_field_parameters \
-            else fields(i, s, p)
+        values = call_fields(fields, i, s, p, jnp.zeros(n_field_parameters))
         return jnp.stack([jnp.asarray(v, dtype=jnp.float64) + 0.0 * s for v in values])
 
     for i in range(P):
@@ -566,11 +572,9 @@ class ShellBVP:
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
         P, m = s.shape
         if isinstance(hint, _Hint) and hint.q.shape == (P * m, 2):
-            # the previous root carried to the new iterate along its implicit derivative
-            # dq = [dq/dy, dq/dp]: the inner Newton then starts O(|change|^2) from its root
-            dq = hint.dq
-            q = hint.q + (dq[:, :, :6] @ (_flat_nodes(Y) - hint.y)[:, :, None])[:, :, 0]
-            return s, Y, q + dq[:, :, 6] * (p - hint.p)
+            # the previous root carried to the new iterate: the inner Newton then starts
+            # O(|change|^2) from its root
+            return s, Y, _carried_roots(hint, _flat_nodes(Y), p)
         return s, Y, self._start(s, Y, p)
 
     def _start(self, s, Y, p):
@@ -597,8 +601,7 @@ class ShellBVP:
         if not isinstance(hint, _Hint) or hint.y.shape != y.shape or \
                 np.max(np.abs(y - hint.y)) > HINT_CARRY * (1.0 + np.max(np.abs(y))):
             return None
-        d = np.concatenate([y - hint.y, np.full((y.shape[0], 1), p - hint.p)], 1)
-        q = hint.q + np.einsum("nij,nj->ni", hint.dq, d)
+        q = _carried_roots(hint, y, p)
         P = Y.shape[0]
         q_new = np.moveaxis(resample(np.moveaxis(q.reshape(P, -1, 2), 1, 2)), 2, 1)
         n = P * q_new.shape[1]
@@ -756,7 +759,7 @@ class ShellBVP:
 
     def _boundary_result(self, out, p):
         r, Ja, Jb, Jp, ok, F0 = out
-        if not self.scene.fields_admissible(F0[None, :]):
+        if not self.scene.fields_admissible(F0):
             self.scene.check_fields(F0[:, None], 0, p)
         if not ok:
             raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "

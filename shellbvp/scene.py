@@ -47,6 +47,13 @@ def uniform_curvature(piece, s, kappa):
     return one, one, (kappa - 1.0) * one, (kappa - 1.0) * one
 
 
+def call_fields(fields, piece, s, p, c):
+    """``fields(piece, s, p, c)``, or ``fields(piece, s, p)`` where the field parameters c
+    are empty: the one place that decides how a scene's fields are called (by NumPy or
+    traced by JAX, c then an array of static length)."""
+    return fields(piece, s, p, c) if len(c) else fields(piece, s, p)
+
+
 @dataclass(frozen=True)
 class Scene:
     """A spherical cap problem (all lengths in R0).
@@ -140,9 +147,7 @@ class Scene:
     def field_values(self, piece, s, p):
         """(g1, g2, kb1, kb2) on piece ``piece`` at s and parameter p: ``fields`` called
         with the scene's ``field_parameters`` where it has any."""
-        if self.field_parameters:
-            return self.fields(piece, s, p, np.asarray(self.field_parameters))
-        return self.fields(piece, s, p)
+        return call_fields(self.fields, piece, s, p, np.asarray(self.field_parameters))
 
     def fields_admissible(self, F) -> bool:
         """Whether field values F (..., k), (g1, g2, kb1, kb2[, pressure]) along the last

@@ -183,13 +183,10 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
             converged = C <= CONTRACTION_BOUND and C * step**2 <= tol
         else:
             converged = False
-        if it == 1 and one_update:
-            converged = one_update_error(step, getattr(system, "root_move", math.inf)) \
-                <= PREDICTED_FRACTION * tol
-            if converged:
-                m, gm = system.monitor(U)
-                return NewtonResult(U, p, m, True, it, history, fac, gm)
-        if (step <= tol or converged) and it >= min_iterations:
+        # one update from a start next to the solution, where its error bound allows
+        first_suffices = it == 1 and one_update and one_update_error(
+            step, getattr(system, "root_move", math.inf)) <= PREDICTED_FRACTION * tol
+        if first_suffices or ((step <= tol or converged) and it >= min_iterations):
             m, gm = system.monitor(U)
             return NewtonResult(U, p, m, True, it, history, fac, gm)
         stalled = it >= 2 and step > FAIL_CONTRACTION * history[-2][1]

@@ -157,7 +157,7 @@ class NodalSystem:
         blocks = self.interior(Y, p, nodal)
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
-        eye = np.eye(n)
+        eye = np.eye(n) if P > 1 else None
         # (row offset, columns, block) triplets, then one assembly: an n x n block on the
         # n columns of one node (a strided slice), or a block on consecutive columns
         parts = [(0, self._columns(0, 0), Ja), (0, self._columns(P - 1, M), Jb)]
