@@ -46,7 +46,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .compiled import point_functions
+from .compiled import point_functions, solve_2x2
 from .packed import Packed
 from .errors import ConvergenceError
 from .jaxsetup import jax
@@ -107,17 +107,12 @@ class Collocated(NamedTuple):
 
 class Nodal(NamedTuple):
     """The right-hand side at nodes of every piece: f (P, 6, m), df/dy (P, 6, 6, m),
-    df/dp (P, 6, m), ``hint``, an opaque warm start for the next evaluation, and ``start``,
-    where the inner Newton for the roots (lam1, k1) started at every node (nodes, 2; nan:
-    the pole-like guess): the derivatives are taken at its last iterate, at most as far
-    from the roots as they are from their start
-    (:attr:`shellbvp.methods.base.NodalSystem.root_move`)."""
+    df/dp (P, 6, m) and ``hint``, an opaque warm start for the next evaluation."""
 
     f: np.ndarray
     J: np.ndarray
     fp: np.ndarray
     hint: object = None
-    start: object = None
 
 
 class _Hint(NamedTuple):
@@ -263,7 +258,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             # k); k1 - k2 = A at eps excludes the 1/s mode exactly as k1 = k2 does for a
             # regular apex, where A = 0
             g, H = fns["hessian"](ya, q, eps, F0, lam, h)
-            kstar = X[2:] - jnp.linalg.solve(H[2:, 2:], g[2:])
+            kstar = X[2:] - solve_2x2(H[2:, 2:], g[2:])
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
         return jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
 
@@ -454,6 +449,10 @@ class ShellBVP:
     """
 
     n = 6
+    #: relative error of the derivatives :meth:`rhs` returns: round-off, for they are
+    #: analytic and the inner roots' derivatives (implicit differentiation) are taken at
+    #: the roots themselves, converged to round-off, never at an earlier iterate
+    jacobian_error = 0.0
 
     def __init__(self, scene: Scene, eps: float | None = None):
         if not isinstance(scene, Scene):
@@ -566,7 +565,7 @@ class ShellBVP:
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
             out = self._flat("nodal", s, Y, p, (q0,))
-        return self._nodal_result(s, Y, p, out, q0)
+        return self._nodal_result(s, Y, p, out)
 
     def _nodal_args(self, s, Y, hint, p):
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
@@ -607,7 +606,7 @@ class ShellBVP:
         n = P * q_new.shape[1]
         return _Hint(_flat_nodes(Y_new), float(p), q_new.reshape(n, 2), np.zeros((n, 2, 7)))
 
-    def _nodal_result(self, s, Y, p, out, q0, yf=None) -> Nodal:
+    def _nodal_result(self, s, Y, p, out, yf=None) -> Nodal:
         F, f, J, fp, ok, q, dq = out
         P, m = s.shape
         self.evaluations += 1
@@ -615,8 +614,7 @@ class ShellBVP:
         f = f.reshape(P, m, 6).transpose(0, 2, 1)
         J = J.reshape(P, m, 6, 6).transpose(0, 2, 3, 1)
         fp = fp.reshape(P, m, 6).transpose(0, 2, 1)
-        return Nodal(f, J, fp, _Hint(_flat_nodes(Y) if yf is None else yf, float(p), q, dq),
-                     q0)
+        return Nodal(f, J, fp, _Hint(_flat_nodes(Y) if yf is None else yf, float(p), q, dq))
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
@@ -643,7 +641,7 @@ class ShellBVP:
         if not out[4].all():           # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
             out, bc, mon = call(q0)
-        nodal = self._nodal_result(s, Y, p, out, q0, yf)
+        nodal = self._nodal_result(s, Y, p, out, yf)
         m_, (ga, gb) = mon
         return Collocated(nodal, self._boundary_result(bc, p),
                           (float(m_), np.asarray(ga), np.asarray(gb)))

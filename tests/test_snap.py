@@ -95,7 +95,7 @@ def test_the_fold_probe_narrows_the_bracket_and_leaves_kappa_s():
     assert abs(k1 - k0) <= 1e-12, runs
 
 
-def test_a_finer_rung_stops_after_one_update_from_carried_roots():
+def test_a_finer_rung_stops_after_one_update_where_its_bound_allows():
     """On the ladder of one kappa_s (:func:`shellbvp.continuation.polish_fold`, Newton on
     dkappa/dw = 0 along the branch) a finer rung starts from the coarser rung's fold with
     its inner roots carried (``transfer``), and its first solve stops after one update

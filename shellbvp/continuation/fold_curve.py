@@ -98,8 +98,8 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
     ``refining``: (U, p) is the converged fold of a coarser discretisation of the same
     problem carried over (a finer rung of the ladder, ~1e-10 away, its inner roots carried
     along); one update then suffices where the error it can leave, CONTRACTION_BOUND
-    (step^2 + delta step) with delta the relative error of the Jacobian (at most the
-    evaluation's ``root_move``), is below the tolerance. ``stats["curvature"]`` is d2p/dm2
+    (step^2 + delta step) with delta the relative error of the Jacobian (the system's
+    ``jacobian_error``), is below the tolerance. ``stats["curvature"]`` is d2p/dm2
     there. Raises ConvergenceError if the iteration fails (a singular bordered matrix, a pivot
     d2p/dm2 = 0, growing updates, an inner solve that fails, or ``maxiter``).
     """
@@ -135,16 +135,15 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         # last two updates (a C above CONTRACTION_BOUND is not that regime but a stall, e.g.
         # on an inexact Jacobian, whose next update is as large as this one): stop when that
         # (or the update) is below tol, which saves the solve that would only confirm it.
-        # After the first update only on a refining rung, the Jacobian's error counted: from
-        # cold inner roots it is up to 1e-5, and one update then left 1.2e-11 in kappa where
-        # C step^2 predicted 1e-14
+        # After the first update only on a refining rung, the Jacobian's error counted
+        # (:func:`one_update_error`)
         C = step / history[-2][2] ** 2 if it >= 2 and history[-2][2] > 0 else math.inf
         left = C * step**2 if C <= CONTRACTION_BOUND else math.inf  # the predicted next update
         if it >= 2 and (step <= tol or left <= PREDICTED_FRACTION * tol):
             break
         if it == 1 and refining:
             # one update from a start ~1e-10 away (of this evaluation's Jacobian error)
-            left = one_update_error(step, getattr(system, "root_move", math.inf))
+            left = one_update_error(step, getattr(system, "jacobian_error", math.inf))
             if left <= PREDICTED_FRACTION * tol:
                 break
         if it >= 2 and step > 0.5 * history[-2][2]:

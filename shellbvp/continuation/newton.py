@@ -41,14 +41,14 @@ CONTRACTION_BOUND = 100.0
 PREDICTED_FRACTION = 0.01
 
 
-def one_update_error(step: float, root_move: float) -> float:
+def one_update_error(step: float, jacobian_error: float) -> float:
     """The error one Newton update of relative size ``step`` can leave from a start next to
     the solution (e.g. a converged solution of a coarser discretisation carried over):
-    CONTRACTION_BOUND (step^2 + delta step), with delta the Jacobian's relative error, at
-    most ``root_move`` (how far the inner roots it was taken at moved: ~C root_move^2 after
-    a warm start, inf after a cold one, so that one update never counts from cold roots:
-    from them one update left 1.2e-11 in kappa_s where C step^2 predicted 1e-14)."""
-    return CONTRACTION_BOUND * (step * step + root_move * step)
+    CONTRACTION_BOUND (step^2 + delta step), with delta the Jacobian's relative error (the
+    system's ``jacobian_error``; inf where unknown, so that one update never counts then: a
+    Jacobian taken 1e-5 from the inner roots once left 1.2e-11 in kappa_s where C step^2
+    predicted 1e-14)."""
+    return CONTRACTION_BOUND * (step * step + jacobian_error * step)
 
 
 class _Factor:
@@ -138,11 +138,10 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
     last update of p), after at least ``min_iterations`` iterations (2: the point is then
     the result of a step taken with the Jacobian of a point already within tol, not of a
-    start whose Jacobian may be inexact, e.g. carried from another discretisation with a
-    cold inner solve). ``one_update``: U starts next to the solution (a converged solution
+    start's Jacobian alone, whose error may be unknown). ``one_update``: U starts next to the solution (a converged solution
     carried to another discretisation, or one predicted along the exact tangent from a
     nearby solution); the first update then suffices, whatever ``min_iterations``, where
-    the error it can leave (:func:`one_update_error` with the system's ``root_move``) is
+    the error it can leave (:func:`one_update_error` with the system's ``jacobian_error``) is
     below ``PREDICTED_FRACTION * tol``. Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
     iterations, growing updates, or - with ``fail_fast`` - an update not at least
@@ -185,15 +184,15 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
             converged = False
         # one update from a start next to the solution, where its error bound allows
         first_suffices = it == 1 and one_update and one_update_error(
-            step, getattr(system, "root_move", math.inf)) <= PREDICTED_FRACTION * tol
+            step, getattr(system, "jacobian_error", math.inf)) <= PREDICTED_FRACTION * tol
         if first_suffices or ((step <= tol or converged) and it >= min_iterations):
             m, gm = system.monitor(U)
             return NewtonResult(U, p, m, True, it, history, fac, gm)
         stalled = it >= 2 and step > FAIL_CONTRACTION * history[-2][1]
         if stalled and step <= ROUND_OFF_STEP:
-            # a tiny update that does not contract: the first step from a cold inner root
-            # can be off by that much (the next one undoes it, the one after converges), so
-            # only two stalls in a row are the round-off floor
+            # a tiny update that does not contract once can be a start's inexact step (the
+            # next one undoes it, the one after converges), so only two stalls in a row are
+            # the round-off floor
             floor_hits += 1
             if floor_hits >= 2:
                 m, gm = system.monitor(U)

@@ -77,19 +77,13 @@ class NodalSystem:
         self.evaluations = 0
         self._hint = None       # warm start of the BVP's inner solve (cost only)
         self._monitor = None    # (U, monitor at U) of the last evaluation
-        self._roots = (None, None)  # (start, roots) of the BVP's inner Newton, last evaluation
 
     @property
-    def root_move(self) -> float:
-        """The largest relative distance of the BVP's inner roots from their start in the
-        last evaluation (inf after a cold start): its Jacobian was taken that close to
-        them (where the BVP reports its starts; nan starts are the pole-like guess)."""
-        start, roots = self._roots
-        if start is None or roots is None or not (np.all(np.isfinite(start))
-                                                  and np.all(start[:, 0] > 0)):
-            return math.inf
-        return float(max(np.max(np.abs(roots[:, 0] - start[:, 0]) / np.abs(roots[:, 0])),
-                         np.max(np.abs(roots[:, 1] - start[:, 1]) / (1 + np.abs(roots[:, 1])))))
+    def jacobian_error(self) -> float:
+        """The relative error of the Jacobian dR/dU: the BVP's ``jacobian_error`` (that of
+        its derivatives, which the discretisation differentiates exactly), inf where the
+        BVP does not state it."""
+        return getattr(self.bvp, "jacobian_error", math.inf)
 
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
@@ -135,10 +129,9 @@ class NodalSystem:
             nodal = bvp.rhs(self.s, Y, p, self._hint)
             bc = bvp.boundary(Y[0, :, 0], Y[-1, :, -1], p)
             mon = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
-        # a warm start changes cost only: the inner Newton converges to 1e-13 from any start
-        # (and where the Jacobian is taken, at most ``root_move`` from the root)
+        # a warm start changes cost only: the inner Newton converges to round-off from any
+        # start, and the derivatives are taken at its roots
         self._hint = nodal.hint
-        self._roots = (getattr(nodal, "start", None), getattr(nodal.hint, "q", None))
         return nodal, bc, mon
 
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)

@@ -264,8 +264,7 @@ class ChebyshevSystem(NodalSystem):
         """U carried onto ``other``; on another degree of the same BVP the inner roots of
         the last evaluation go along where it was at (nearly) U, so that the first
         evaluation there starts the inner Newton next to its roots, as the next one on this
-        degree would: its Jacobian is then exact to round-off, not taken ~1e-5 from a cold
-        root (:attr:`root_move` says which)."""
+        degree would (fewer inner steps; the result is the same from any start)."""
         V = super().transfer(U, p, other)
         carry = getattr(self.bvp, "carried_hint", None)
         if carry is not None and other.bvp is self.bvp and other is not self \
