@@ -114,6 +114,17 @@ def test_scalar_fold_is_passed_and_located_exactly():
     assert pts[-1].p < 1.0 and pts[-1].monitor > 1.0   # the branch was followed past the fold
 
 
+def test_a_start_on_the_edge_of_p_stop_is_followed():
+    """p0 on the edge of p_stop: the start's p is p0 only to round-off, on either side (a
+    budding branch from kbar = 0 once ended at its start, p = -1e-28), so the start is
+    exempt from the stop test; the next points are not."""
+    for edge in (0.0, 1e-15, -1e-15):           # the start just inside, on, just outside
+        pts, _ = pseudo_arclength(Scalar(), np.array([0.0]), 0.0, options=opts(0.1, 0.3),
+                                  p_stop=(edge, 0.5))
+        assert len(pts) > 2 and all(edge <= q.p <= 0.5 for q in pts[1:-1])
+        assert not (edge <= pts[-1].p <= 0.5)      # stopped on leaving the range
+
+
 def test_predicted_stop_keeps_points_within_the_tolerance_for_fewer_evaluations():
     """``predicted_stop``: the corrector stops on the next update quadratic convergence
     predicts. On Bratu's branch every point is then within 10 newton_tol of the point

@@ -135,7 +135,10 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
 
     while len(pts) < o.max_steps:
         b = pts[-1]
-        if not (p_stop[0] <= b.p <= p_stop[1] and monitor_stop[0] <= b.monitor <= monitor_stop[1]):
+        # the start is exempt: at p0 on the edge of p_stop (e.g. p0 = 0, p_stop = (0, ...)),
+        # its p is p0 to round-off, on either side
+        if len(pts) > 1 and not (p_stop[0] <= b.p <= p_stop[1]
+                                 and monitor_stop[0] <= b.monitor <= monitor_stop[1]):
             break
         if n_folds is not None and len(brackets) >= n_folds:
             break
