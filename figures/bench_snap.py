@@ -3,9 +3,10 @@
 Cap: Theta = pi/6, h0/R0 = 0.01, lam = 1, Ciarlet-Geymonat, relaxed and plane strain.
 For every model and tolerance it reports the steady-state wall time of one
 ``snap_curvature(..., tol=tol)`` (median, min and max of repeats in one process after a first
-call), the error of kappa_s against a reference (tol 1e-12 on degrees from 56 up), next to
-the error estimate the call returns, the final Chebyshev degree and the number of Newton
-evaluations. Start-up: the wall time of the whole command ``shellbvp snap --model M`` in a
+call; the rows run in turn, one call each per round, so that the machine's slow spells fall
+on all of them alike), the error of kappa_s against a reference (tol 1e-12 on degrees from
+56 up), next to the error estimate the call returns, the final Chebyshev degree and the
+number of Newton evaluations. Start-up: the wall time of the whole command ``shellbvp snap --model M`` in a
 fresh process, with an empty cache folder (``cold``: symbolic derivation, tracing, XLA
 compilation) and again with that folder filled (``warm``).
 
@@ -63,16 +64,22 @@ AUTO = {"relaxed": [(32, 7e-9), (58, 8e-11), (111, 1e-13)],
         "plane_strain": [(26, 1e-8), (45, 1e-10), (87, 1e-12)]}
 
 
-def steady(model, tol, repeats):
+def steady(cases, repeats):
+    """{(model, tol): (times (repeats,), last result)}, in steady state. The cases are run
+    in turn, one call each per round (after one call each to compile and warm the caches),
+    so that a slow spell of the machine falls on every row alike, not on one."""
     from shellbvp.problems import cap_eversion as ce
 
-    ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)   # compile, warm caches
-    times, r = [], None
+    for model, tol in cases:
+        ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+    times = {case: [] for case in cases}
+    last = {}
     for _ in range(repeats):
-        t = time.perf_counter()
-        r = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-        times.append(time.perf_counter() - t)
-    return np.array(times), r
+        for model, tol in cases:
+            t = time.perf_counter()
+            last[model, tol] = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+            times[model, tol].append(time.perf_counter() - t)
+    return {case: (np.array(times[case]), last[case]) for case in cases}
 
 
 def startup(model, cache_dir):
@@ -127,17 +134,22 @@ def main(argv=None):
 
     pinned = len(os.sched_getaffinity(0)) == 1 if hasattr(os, "sched_getaffinity") else False
     print(f"one core pinned: {pinned}; median of {repeats} repeats per entry")
-    rows = []
-    for model in MODELS:
-        from shellbvp import Chebyshev
+    from shellbvp import Chebyshev
 
-        ref = ce.snap_curvature(THETA, H0, LAM, model=model, tol=REFERENCE_TOL,
-                                method=Chebyshev(nodes=REFERENCE_NODES))
+    refs = {}
+    for model in MODELS:
+        refs[model] = ref = ce.snap_curvature(THETA, H0, LAM, model=model, tol=REFERENCE_TOL,
+                                              method=Chebyshev(nodes=REFERENCE_NODES))
         print(f"{model}: reference kappa_s R0 = {ref.kappa_s!r} (tol {REFERENCE_TOL:g}, "
               f"estimate {ref.error_estimate:.1e}, N = "
               f"{ref.stats['fold']['resolution']['nodes']})")
+    timed = steady([(model, tol) for model in MODELS for tol in tols], repeats)
+    rows = []
+    for model in MODELS:
+        ref = refs[model]
+        print(model)
         for tol in tols:
-            times, r = steady(model, tol, repeats)
+            times, r = timed[model, tol]
             err = abs(r.kappa_s - ref.kappa_s)
             rows.append([model, tol, 1e3 * float(np.median(times)), 1e3 * float(times.min()),
                          1e3 * float(times.max()), repeats, r.kappa_s, r.error_estimate, err,
