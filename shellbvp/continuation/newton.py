@@ -138,11 +138,11 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
     last update of p), after at least ``min_iterations`` iterations (2: the point is then
     the result of a step taken with the Jacobian of a point already within tol, not of a
-    start's Jacobian alone, whose error may be unknown). ``one_update``: U starts next to the solution (a converged solution
-    carried to another discretisation, or one predicted along the exact tangent from a
-    nearby solution); the first update then suffices, whatever ``min_iterations``, where
-    the error it can leave (:func:`one_update_error` with the system's ``jacobian_error``) is
-    below ``PREDICTED_FRACTION * tol``. Returns
+    start's Jacobian alone, whose error may be unknown). ``one_update``: U starts next to
+    the solution (a converged solution carried to another discretisation, or one predicted
+    along the exact tangent from a nearby solution); the first update then suffices,
+    whatever ``min_iterations``, where the error it can leave (:func:`one_update_error` with
+    the system's ``jacobian_error``) is below ``PREDICTED_FRACTION * tol``. Returns
     ``ok = False`` (never raises) on non-finite values, a singular matrix, too many
     iterations, growing updates, or - with ``fail_fast`` - an update not at least
     ``FAIL_CONTRACTION`` times the one before; the caller decides what to do.
