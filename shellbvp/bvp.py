@@ -84,6 +84,11 @@ HINT_CARRY = 1e-3
 INTERFACE_STEPS = 16
 #: round-off scatter of a fold parameter, in eps (1 + |p|) / h (:meth:`ShellBVP.round_off`)
 ROUND_OFF_PER_H = 5.0
+#: Ciarlet-Geymonat lam above which that scatter grows like lam (the forces of the lam term
+#: carry round-off ~ lam eps): scatter / (ROUND_OFF_PER_H eps (1 + |p|) / h) of folds located
+#: at degrees 40-68 (relaxed, Theta = pi/6, h = 0.01) was 0.6-0.7 at lam = 1-100, 5.5 at
+#: 1e3 and 52 at 1e4 (plane strain, which snaps up to lam = 100: 0.4-1.0)
+ROUND_OFF_LAM = 100.0
 #: Gauss-Legendre panels and points per panel of the energy quadrature (per piece)
 ENERGY_PANELS, ENERGY_GAUSS = 64, 4
 
@@ -486,11 +491,15 @@ class ShellBVP:
 
     def round_off(self, p: float) -> float:
         """Round-off scatter of a fold's parameter value p: ``ROUND_OFF_PER_H`` eps (1 + |p|)
-        / h. Measured on caps (values at converged degrees, different degrees and Newton
+        / h, times lam / ``ROUND_OFF_LAM`` for a Ciarlet-Geymonat material stiffer than
+        that. Measured on caps (values at converged degrees, different degrees and Newton
         paths): ~1e-13 relative at h = 0.01, 2e-13 at h = 1e-3, 1.3e-12 at h = 1e-4 (the
-        moment and forces enter the equations scaled by 12 / h^2). A change between rungs of
-        the ladder does not see it, so fold error estimates are at least this."""
-        return ROUND_OFF_PER_H * np.finfo(float).eps * (1.0 + abs(p)) / self.scene.h
+        moment and forces enter the equations scaled by 12 / h^2), and growing like lam
+        above lam ~ 100 (7e-13 relative at lam = 1e3, 7e-12 at 1e4). A change between rungs
+        of the ladder does not see it, so fold error estimates are at least this."""
+        sc = self.scene
+        stiff = max(1.0, sc.lam / ROUND_OFF_LAM) if sc.material == "cg" else 1.0
+        return ROUND_OFF_PER_H * np.finfo(float).eps * (1.0 + abs(p)) / sc.h * stiff
 
     @property
     def lengths(self) -> np.ndarray:

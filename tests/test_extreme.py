@@ -46,6 +46,32 @@ def test_tolerance_below_the_round_off_floor_is_refused_with_the_allowed_one():
         ce.snap_curvature(THETA, 0.01, tol=1e-13)
 
 
+def test_stiff_material_floor_grows_with_lam():
+    """Relaxed CG at lam = 1e3: the lam term's forces carry round-off ~ lam eps, and folds
+    located at different degrees scatter by 2.7e-12 (test below), five times the floor of a
+    soft material; the floor is then 5 eps (1 + kappa_s) / h x lam / 100 = 5e-12, and tol
+    1e-12 (which a soft cap allows) is refused with it. (A work-precision run at tol 1e-12
+    gave an error of 2.6e-12 against an estimate of 7.9e-13 before the floor grew.)"""
+    with pytest.raises(ConvergenceError, match=r"ask for a tolerance >= 5e-12"):
+        ce.snap_curvature(THETA, 0.01, 1e3, tol=1e-12)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("lam", [1e3, 1e4])
+def test_stiff_material_floor_bounds_the_scatter_between_degrees(lam):
+    """Folds of the stiff cap located on ladders from degrees 40, 48, 56, 64 (different
+    Newton paths and discretisations, each converged far below the floor) lie within the
+    floor of each other; each estimate is at least that floor."""
+    from shellbvp import Chebyshev, Scene, ShellBVP
+
+    runs = [ce.snap_curvature(THETA, 0.01, lam, tol=1e-10, method=Chebyshev(nodes=N))
+            for N in (40, 48, 56, 64)]
+    k = [r.kappa_s for r in runs]
+    floor = ShellBVP(Scene(theta=THETA, h=0.01, lam=lam)).round_off(k[0])
+    assert max(k) - min(k) <= floor
+    assert min(r.error_estimate for r in runs) >= floor
+
+
 @pytest.mark.slow
 def test_deep_cap_estimate_bounds_its_error():
     """Theta = 0.95 pi (T = 29.8, N ~ 180): with rungs of 4 degrees the fold converged by a
