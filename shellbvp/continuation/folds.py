@@ -352,10 +352,14 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
                         fine.system.bvp.round_off(fine.p)
                         if hasattr(fine.system.bvp, "round_off") else 0.0)
             if noise > options.fold_tol:
+                # the tolerance to suggest: noise rounded up to one digit (rounded to the
+                # nearest, 5.007e-12 became 5e-12, itself refused)
+                e = 10.0 ** math.floor(math.log10(noise))
+                allowed = math.ceil(noise / e * (1 - 1e-12)) * e
                 raise ConvergenceError(
                     f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
                     f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
-                    f"or stiff shell); ask for a tolerance >= {noise:.0e}", round_off=True)
+                    f"or stiff shell); ask for a tolerance >= {allowed:.0e}", round_off=True)
             estimate = max(change, noise) + location_weight * fine.stats["location"]
             return fine.with_estimate(
                 estimate, index=index,
