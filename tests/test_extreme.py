@@ -13,10 +13,14 @@ THETA = math.pi / 6
 
 def test_relaxed_kappa_s_tends_to_the_incompressible_limit():
     """As lam -> infinity the relaxed CG cap tends to the incompressible neo-Hookean one
-    (an independent material model), like 1/lam: the gap shrinks ~10x per decade."""
+    (an independent material model), like 1/lam: the gap shrinks ~10x per decade. At
+    lam = 1e5 the fold's Newton updates stall at round-off (2-4e-10, above the monitor
+    tolerance 1e-10): the polishing trusts updates at that floor and takes no secant of
+    d2p/dm2 over moves smaller than its points' uncertainty (it used to wander in the noise
+    and fail after 12 steps)."""
     nh = ce.snap_curvature(THETA, 0.01, material="nh").kappa_s
-    gaps = [ce.snap_curvature(THETA, 0.01, lam).kappa_s - nh for lam in (1e3, 1e4)]
-    assert 0 < gaps[1] < gaps[0] / 5
+    gaps = [ce.snap_curvature(THETA, 0.01, lam).kappa_s - nh for lam in (1e3, 1e4, 1e5)]
+    assert 0 < gaps[2] < gaps[1] / 5 < gaps[0] / 25
 
 
 def test_round_off_beyond_double_precision_is_a_clear_error():

@@ -48,6 +48,7 @@ class _Slope:
         self.system, self.tol, self.early_stop = system, tol, early_stop
         self.known = list(known)   # (m, U, p, dU/dm, dp/dm)
         self.update = {}           # m -> the last Newton update of its solve (relative)
+        self.floor_step = 0.0      # largest last update of a solve ended at its round-off floor
         self.solves = self.iterations = 0
         self.round_off = 0.0       # largest uncertainty of p left by a Newton round-off floor
 
@@ -67,6 +68,8 @@ class _Slope:
         v, _, dp = tangent(res)
         self.known.append((mv, res.U, res.p, v, dp))
         self.update[mv] = res.history[-1][1]
+        if res.p_noise > 0:
+            self.floor_step = max(self.floor_step, res.history[-1][1])
         return dp
 
     def state(self, mv):
@@ -133,9 +136,19 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
     slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol, early_stop=True)
     slope.round_off = res.p_noise
     slope.update[monitor] = res.history[-1][1]
+    if res.p_noise > 0:
+        slope.floor_step = res.history[-1][1]
+
+    # updates at the round-off floor of the discrete equations (as large as those of a solve
+    # that stalled there, or as the problem's round-off scatter) are as small as they get:
+    # waiting for smaller ones never ends (a stiff material, lam = 1e5: updates of 2-4e-10
+    # against a monitor tolerance of 1e-10); that round-off is counted in the estimate
+    bvp = getattr(system, "bvp", None)
+    scatter = bvp.round_off(p) if hasattr(bvp, "round_off") else 0.0
 
     def trusted(m):
-        return slope.update.get(m, math.inf) <= SLOPE_TRUST * monitor_tol
+        return slope.update.get(m, math.inf) <= max(SLOPE_TRUST * monitor_tol,
+                                                    slope.floor_step, scatter)
 
     m0, g0 = monitor, dp
     if curvature is None or not math.isfinite(curvature) or curvature == 0:
@@ -153,7 +166,10 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
                                    f"{monitor:.10g} (window {window:g}); the estimate is too "
                                    f"far (use a finer starting discretisation)")
         g1 = slope(m1)
-        if g1 != g0:
+        # a secant only over a move larger than the two points' own uncertainty (dp/dm is
+        # off by up to 0.5 |c| times its solve's last update): over a smaller one it is
+        # noise (lam = 1e5: secants of -0.1 and +7 where c = -70, and no convergence)
+        if g1 != g0 and abs(m1 - m0) > slope.update.get(m0, 0.0) + slope.update.get(m1, 0.0):
             c = (g1 - g0) / (m1 - m0)
         m0, g0, moved = m1, g1, abs(m1 - m0)
         if moved <= monitor_tol and trusted(m0):
