@@ -316,13 +316,10 @@ def _functions_of(W4, el):
     def rhs_jac(y, s, F, dF, lam, h, q_init=None):
         """f, df/dy and the derivative of f along a change dF of the fields (a parameter
         derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
-        # f (with a fresh W gradient) at the root; the derivatives from the W-jet of the inner
-        # Newton's last iterate q_k, which the loop has already paid for: q_k is within
-        # ~1e-5 of the root during outer iterations (a Jacobian that accurate costs the outer
-        # Newton nothing) and within ~1e-16 at a converged outer iterate (unchanged y: one
-        # inner step), where df/dy is exact to round-off
-        q_root, ok, (q, g, H) = root(y, s, F, lam, h, q_init)
-        a = args(y, q, s, F, g, H, h)
+        # everything at the root, with the W-jet root() computed there: df/dy is exact to
+        # round-off (the BVP's ``jacobian_error``) whatever the inner Newton's start
+        q_root, ok, (_, g, H) = root(y, s, F, lam, h, q_init)
+        a = args(y, q_root, s, F, g, H, h)
         fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
         (f, _), (df, dG) = jax.jvp(lambda F_: f_and_G(y, q_root, s, F_, lam, h), (F,), (dF,))
