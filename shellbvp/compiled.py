@@ -259,13 +259,13 @@ def _functions_of(W4, el):
         X, g, H = jet(y, q, s, F, lam, h)
         a = args(y, q, s, F, g, H, h)
         dq = solve_2x2(_arr(el["G_q"](*a)), _arr(el["G"](*a)))
-        return q - dq, dq, X, g, H
+        return q - dq, dq
 
     def root(y, s, F, lam, h, q_init=None):
         # Start from the pole-like guess (r / (g1 sin s), k2) (= (lam2, k2) without metric
         # stimulus; g1 lam1 = g2 lam2 at the pole), or from q_init where it is finite (a warm
         # start from the previous Newton iterate of an outer solver). Returns the root, ok,
-        # and the root with the W-jet there (g, H), for the callers' derivatives. Not to be
+        # and the W-jet at the root (g, H), for the callers' derivatives. Not to be
         # differentiated (a loop carries every tangent through every iteration): ``rhs_jac``
         # gives dq/dy by implicit differentiation at the root.
         q0 = jnp.array([y[0] / (F[0] * jnp.sin(s)), -jnp.sin(y[2]) / y[0]])
@@ -276,7 +276,7 @@ def _functions_of(W4, el):
             # only q leaves the loop: the compiler then computes just the parts of the
             # W-jet that G and G_q use (carrying the whole jet out made each step 2.5x dearer)
             q, it, err_prev, _ = c
-            q_new, dq, _, _, _ = newton_step(y, q, s, F, lam, h)
+            q_new, dq = newton_step(y, q, s, F, lam, h)
             err = jnp.maximum(jnp.abs(dq[0]) / jnp.abs(q[0]), jnp.abs(dq[1]) / (1 + jnp.abs(q[1])))
             return q_new, it + 1, err, err_prev
 
@@ -300,7 +300,7 @@ def _functions_of(W4, el):
         # derivatives, G = 0 has further roots that are not the physical state
         X, g, H = jet(y, q, s, F, lam, h)
         ok = converged(err, err_prev) & (q[0] > 0) & legendre_holds(X, g, H)
-        return q, ok, (q, g, H)
+        return q, ok, (g, H)
 
     def algebraic(y, s, F, lam, h, q_init=None):
         q, ok, _ = root(y, s, F, lam, h, q_init)
@@ -318,7 +318,7 @@ def _functions_of(W4, el):
         derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
         # everything at the root, with the W-jet root() computed there: df/dy is exact to
         # round-off (the BVP's ``jacobian_error``) whatever the inner Newton's start
-        q_root, ok, (_, g, H) = root(y, s, F, lam, h, q_init)
+        q_root, ok, (g, H) = root(y, s, F, lam, h, q_init)
         a = args(y, q_root, s, F, g, H, h)
         fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))

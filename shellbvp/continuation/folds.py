@@ -38,6 +38,13 @@ POLISH_MAXITER = 12
 SLOPE_TRUST = 1.0
 
 
+def _scatter(system, p) -> float:
+    """The round-off scatter of a fold parameter p of ``system``'s problem
+    (``bvp.round_off``), 0 where the problem does not state it."""
+    bvp = getattr(system, "bvp", None)
+    return bvp.round_off(p) if hasattr(bvp, "round_off") else 0.0
+
+
 class _Slope:
     """dp/dm along the branch at prescribed monitor values, remembering every solve (the
     nearest one, with its exact tangent, is the predictor for the next)."""
@@ -61,13 +68,18 @@ class _Slope:
                      tol=self.tol, one_update=self.early_stop, predict=self.early_stop)
         self.solves += 1
         self.iterations += res.iterations
-        self.round_off = max(self.round_off, res.p_noise)
         if not res.ok:
             raise ConvergenceError(f"fold location: Newton failed at monitor {mv:.10g}: "
                                    f"{res.history}")
+        return self.record(mv, res)
+
+    def record(self, mv, res):
+        """Remember the converged solve ``res`` at monitor mv (its state, tangent, last
+        update and round-off); returns its dp/dm."""
         v, _, dp = tangent(res)
         self.known.append((mv, res.U, res.p, v, dp))
         self.update[mv] = res.history[-1][1]
+        self.round_off = max(self.round_off, res.p_noise)
         if res.p_noise > 0:
             self.floor_step = max(self.floor_step, res.history[-1][1])
         return dp
@@ -132,19 +144,14 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
     if not res.ok:
         raise ConvergenceError(f"fold polishing: Newton failed at monitor {monitor:.10g}: "
                                f"{res.history}")
-    v, _, dp = tangent(res)
-    slope = _Slope(system, [(monitor, res.U, res.p, v, dp)], tol, early_stop=True)
-    slope.round_off = res.p_noise
-    slope.update[monitor] = res.history[-1][1]
-    if res.p_noise > 0:
-        slope.floor_step = res.history[-1][1]
+    slope = _Slope(system, [], tol, early_stop=True)
+    dp = slope.record(monitor, res)
 
     # updates at the round-off floor of the discrete equations (as large as those of a solve
     # that stalled there, or as the problem's round-off scatter) are as small as they get:
     # waiting for smaller ones never ends (a stiff material, lam = 1e5: updates of 2-4e-10
     # against a monitor tolerance of 1e-10); that round-off is counted in the estimate
-    bvp = getattr(system, "bvp", None)
-    scatter = bvp.round_off(p) if hasattr(bvp, "round_off") else 0.0
+    scatter = _scatter(system, p)
 
     def trusted(m):
         return slope.update.get(m, math.inf) <= max(SLOPE_TRUST * monitor_tol,
@@ -365,8 +372,7 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
             # change between rungs sees neither): the estimate includes both, and more than
             # fold_tol is an error, not a result that misses its tolerance
             noise = max(current.stats["round_off"], fine.stats["round_off"],
-                        fine.system.bvp.round_off(fine.p)
-                        if hasattr(fine.system.bvp, "round_off") else 0.0)
+                        _scatter(fine.system, fine.p))
             if noise > options.fold_tol:
                 # the tolerance to suggest: noise rounded up to one digit (rounded to the
                 # nearest, 5.007e-12 became 5e-12, itself refused)
