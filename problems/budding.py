@@ -126,9 +126,9 @@ def equilibrium(eta_a, eta_b, kbar, *, nodes=None, method=None) -> shellbvp.Equi
 
 def equilibrium_near(b: shellbvp.Branch, i: int, kbar, *,
                      estimate_error: bool = False) -> shellbvp.Equilibrium:
-    """The equilibrium at exactly ``kbar``, solved with the branch's method from its point
-    i (which should be the nearest)."""
-    return shellbvp.solve(b.scene, float(kbar), method=_method(b.stats.get("nodes")),
+    """The equilibrium at exactly ``kbar``, solved with the branch's method (``b.method``)
+    from its point i (which should be the nearest)."""
+    return shellbvp.solve(b.scene, float(kbar), method=b.method,
                           guess=b.equilibrium(i), estimate_error=estimate_error)
 
 

@@ -16,13 +16,17 @@ maximum of kappa along the branch; shallow caps evert without a fold.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 import shellbvp
-from shellbvp import Chebyshev, ContinuationOptions, Scene
+from shellbvp import (Chebyshev, ContinuationOptions, Onset, Scene, SnapResult, as_method)
+from shellbvp.cache import atomic_write_text
+from shellbvp.methods import bracketing_nodes
 
+#: the fold tolerance (in kappa R0) where neither ``tol`` nor ``options.fold_tol`` is given
+TOL = 1e-9
 #: ODE tolerance at which a shooting branch is followed to bracket its snap fold
 BRACKET_RTOL = 1e-5
 #: largest step in w / H along the fold curve from the first snapping cap to the cusp
@@ -52,58 +56,37 @@ def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg", nu=
     return shellbvp.solve(sc, kappa, method=method, guess=guess)
 
 
+def _fold_options(options, tol, default):
+    """The continuation options with the fold tolerance in one place (``tol``, or the given
+    options' ``fold_tol``; ValueError where both are set and differ)."""
+    if options is None:
+        return default.with_(fold_tol=TOL if tol is None else tol)
+    if tol is None:
+        return options
+    return options.with_fold_tol(tol, given=True)
+
+
 def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_max=None,
-           n_folds=1, w_max=None, method="spectral", tol=1e-9,
+           n_folds=1, w_max=None, method="spectral", tol: float | None = None,
            options: ContinuationOptions | None = None, progress=None,
            energies=True) -> shellbvp.Branch:
     """Continuation diagram kappa(w) from the undeformed cap (a :class:`shellbvp.Branch`).
 
     Stops after ``n_folds`` folds (default: the snap; None: no limit), at ``kappa_max``
     (1/R0), or when w exceeds ``w_max`` (default: 1.2 times the fully everted displacement
-    2 (1 - cos Theta)). Folds are refined until kappa changes by at most ``tol`` (which
-    replaces ``options.fold_tol``). ``method``: ``Chebyshev(...)`` (default
-    ``"spectral"``), ``Shooting(...)`` or ``Collocation(...)``.
+    2 (1 - cos Theta)). Folds are refined until kappa changes by at most ``tol`` (default
+    ``options.fold_tol`` where options are given, else ``TOL``; ValueError if both set it,
+    differently). ``method``: ``Chebyshev(...)`` (default ``"spectral"``), ``Shooting(...)``
+    or ``Collocation(...)``.
     """
     sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     H = 1.0 - math.cos(sc.theta)
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
-    options = (ContinuationOptions() if options is None else options).with_(fold_tol=tol)
+    options = _fold_options(options, tol, ContinuationOptions())
     return shellbvp.follow(sc, method=method, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
                            progress=progress, energies=energies)
-
-
-@dataclass(frozen=True)
-class SnapResult:
-    """Snap-through of an everting cap.
-
-    Attributes:
-        snaps: whether the branch from kappa = 0 has a fold before full eversion.
-        kappa_s: snap curvature kappa_s R0 (nan when it does not snap).
-        w_s: edge displacement at the fold, in R0 (nan when it does not snap).
-        error_estimate: estimate of the error in kappa_s (mesh refinement of the fold system).
-        T: shallowness Theta sqrt(R0/h0).
-        fold: the :class:`shellbvp.Fold` (``fold.equilibrium`` is the shape at the snap).
-        gradient: with ``gradient=True``, exact derivatives of kappa_s R0:
-            ``{"theta": dkappa_s/dTheta, "h": dkappa_s/dh, "lam": dkappa_s/dlam}`` (``"nu"``
-            for Koiter, no material entry for neo-Hookean), each at fixed other data
-            (:func:`shellbvp.fold_gradient`); None otherwise or when the cap does not snap.
-    """
-
-    snaps: bool
-    kappa_s: float
-    w_s: float
-    error_estimate: float
-    theta: float
-    h: float
-    lam: float
-    model: str
-    material: str
-    T: float
-    stats: dict = field(repr=False, default_factory=dict)
-    fold: object = field(repr=False, default=None)
-    gradient: dict | None = None
 
 
 def _default_spectral(method) -> bool:
@@ -113,33 +96,37 @@ def _default_spectral(method) -> bool:
 
 
 def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
-                   method="spectral", tol=1e-9,
+                   method="spectral", tol: float | None = None,
                    options: ContinuationOptions | None = None,
                    gradient: bool = False) -> SnapResult:
     """kappa_s: the first fold of the branch from kappa = 0, refined until it changes by at
-    most ``tol`` on the method's ladder (Chebyshev: 4 more nodes per rung and 32 degrees from
-    the degree tol needs, the branch itself followed on a coarser degree only to bracket the
-    fold; shooting: ODE tolerance / 10 per rung from the method's rtol, the branch followed
-    at ``BRACKET_RTOL`` unless the method sets ``bracket_rtol``; collocation: every interval
-    halved); that change, with the round-off floor and the fold's location error, is the
-    error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
+    most ``tol`` (default ``TOL``, or ``options.fold_tol``) on the method's ladder
+    (Chebyshev: 4 more nodes per rung and 32 degrees from the degree tol needs, the branch
+    itself followed on a coarser degree only to bracket the fold; shooting: ODE tolerance /
+    10 per rung from the method's rtol, or from tol where the method leaves rtol free, the
+    branch followed at ``BRACKET_RTOL`` unless the method sets ``bracket_rtol``;
+    collocation: every interval halved); that change, with the round-off floor and the
+    fold's location error, is the error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
     unless ``options`` are given. ``gradient=True`` adds the exact derivatives of kappa_s in
     Theta, h and the material parameter (``SnapResult.gradient``; spectral method only), by
     implicit differentiation of the fold: for optimisation and inverse design."""
     if gradient and not _default_spectral(method):
         raise ValueError(f"gradient=True needs method='spectral', got method={method!r}")
-    options = ContinuationOptions.to_first_fold() if options is None else options
+    options = _fold_options(options, tol, ContinuationOptions.to_first_fold())
+    if not _default_spectral(method):
+        method = as_method(method)
     if _default_spectral(method):
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
         # that tol needs: follow it on a coarser grid
-        method = Chebyshev(nodes=shellbvp.bracketing_nodes(scene(theta, h, lam, model=model,
+        method = Chebyshev(nodes=bracketing_nodes(scene(theta, h, lam, model=model,
                                                                  material=material, nu=nu)))
     elif isinstance(method, shellbvp.Shooting) and method.bracket_rtol is None \
             and method.steps is None:
-        # likewise for shooting: the branch at a loose ODE tolerance, the fold from rtol
-        method = replace(method, bracket_rtol=max(method.rtol, BRACKET_RTOL))
+        # likewise for shooting: the branch at a loose ODE tolerance, the fold from rtol (or
+        # from tol where rtol is left free)
+        method = replace(method, bracket_rtol=max(method.rtol or 0.0, BRACKET_RTOL))
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               method=method, tol=tol, options=options, energies=False)
+               method=method, options=options, energies=False)
     T = theta / math.sqrt(h)
     if not b.folds and b.stop:
         # the branch ended before full eversion for a reason of its own: "no snap" would be
@@ -197,7 +184,7 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
     if csv_path is not None:
         lines = ["T,theta_rad,kappa_s_R0,w_s_over_R0,kappa_s_error,snaps"]
         lines += [f"{T!r},{th!r},{k!r},{w!r},{e!r},{int(s)}" for T, th, k, w, e, s, _ in rows]
-        shellbvp.atomic_write_text(csv_path, "\n".join(lines) + "\n")
+        atomic_write_text(csv_path, "\n".join(lines) + "\n")
     return out
 
 
@@ -225,31 +212,6 @@ def _along_fold_curve(T, folds, h, lam, model, material, nu, tol):
         return None
     return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), sc.theta, h, lam,
                       model, material, T, {"fold": f.stats, "along_fold_curve": True}, fold=f)
-
-
-@dataclass(frozen=True)
-class Onset:
-    """The smallest shallowness T = Theta sqrt(R0/h0) at which the cap snaps.
-
-    By the mirror symmetry (kappa, w) -> (2 - kappa, 2H - w) the branch of a shallow cap
-    passes through the flat state (w = H, kappa = 1), where dkappa/dw is even in w - H: the
-    first fold pair is born there when dkappa/dw at the flat state changes sign. On the
-    fold curve in (T, kappa) that is the cusp where the snap fold and its mirror meet, at
-    w = H. ``T`` is found there (:func:`onset`); ``error_estimate`` is its change with the
-    next Chebyshev degree plus the solver's tolerance; ``bracket`` the T interval of the
-    scan; ``kappa`` the fold's kappa R0 at the cusp (1 by the symmetry: computed, a check);
-    ``stats``: the fold-curve steps and Newton iterations.
-    """
-
-    T: float
-    error_estimate: float
-    bracket: tuple
-    h: float
-    lam: float
-    model: str
-    material: str
-    kappa: float = math.nan
-    stats: dict = field(repr=False, default_factory=dict)
 
 
 def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=None):

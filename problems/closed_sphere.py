@@ -116,7 +116,9 @@ def equilibrium(kappa, *, h, lam=1.0, model="relaxed", material="cg", exact=Fals
 
 def series(order=2, *, model="relaxed", material="cg"):
     """Symbolic coefficients c_n(h, lam) of w/R0 = sum_n c_n kappa^n (exact in h)."""
-    return shellbvp.stationary_series(state, order=order, model=model, material=material)
+    from shellbvp.series import stationary_series
+
+    return stationary_series(state, order=order, model=model, material=material)
 
 
 def series_value(kappa, *, h, lam=1.0, order=2, model="relaxed", material="cg"):

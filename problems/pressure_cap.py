@@ -36,10 +36,10 @@ asymmetric bifurcation may come first in the real shell (Huang 1964).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import shellbvp
-from shellbvp import ContinuationOptions, Scene
+from shellbvp import ContinuationOptions, PressureResult, Scene
+from shellbvp.cache import atomic_write_text
 
 __all__ = ["scene", "geometry", "pressure_scale", "branch", "critical_pressure",
            "PressureResult", "membrane_state", "pressure", "unstimulated"]
@@ -83,7 +83,7 @@ def _elastic_constants(material, nu, lam):
     return 3.0, 0.5
 
 
-def _check(lambda_B, R_over_t, material, nu):
+def _check(lambda_B, R_over_t, material, nu, lam):
     for name, v in (("lambda_B", lambda_B), ("R_over_t", R_over_t)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -94,6 +94,18 @@ def _check(lambda_B, R_over_t, material, nu):
         raise ValueError(f"material must be one of ('koiter', 'cg', 'nh'), got {material!r}")
     if material == "koiter" and not (isinstance(nu, (int, float)) and -1.0 < nu < 1.0):
         raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio), got {nu!r}")
+    # the Poisson ratio of cg follows from lam, nh has none: a nu that changes nothing is
+    # refused (the Koiter default 0.3 means "absent" there), and so is a lam for koiter/nh
+    if material != "koiter" and nu != NU:
+        raise ValueError(f"nu = {nu!r} does not apply to material={material!r} (its Poisson "
+                         f"ratio follows from the material): leave nu at its default {NU}")
+    if material != "cg" and lam != 1.0:
+        raise ValueError(f"lam = {lam!r} does not apply to material={material!r}: leave lam "
+                         f"at its default 1.0")
+
+
+#: the default Poisson ratio of the Koiter shell (the classical tables' nu = 0.3)
+NU = 0.3
 
 
 def geometry(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0):
@@ -101,7 +113,7 @@ def geometry(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0):
     R/t: h = t/R and 1 - cos Theta = lambda_B^2 / (4 sqrt(3 (1 - nu^2)) R/t), nu the
     material's Poisson ratio. Raises ValueError for a cap that is not one (rise beyond a
     hemisphere)."""
-    _check(lambda_B, R_over_t, material, nu)
+    _check(lambda_B, R_over_t, material, nu, lam)
     _, nu_ = _elastic_constants(material, nu, lam)
     rise = lambda_B**2 / (4.0 * math.sqrt(3.0 * (1.0 - nu_**2)) * R_over_t)
     if rise >= 1.0:
@@ -122,7 +134,9 @@ def scene(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     """The clamped cap of geometric parameter lambda_B under external pressure (module
     docstring); its parameter is the pressure P = p R0 / (mu* h0)."""
     theta, h = geometry(lambda_B, R_over_t, nu, material=material, lam=lam)
-    return Scene(theta=theta, h=h, lam=lam, nu=nu, model=model, material=material,
+    # only the parameter the material uses goes to the scene (which refuses the others)
+    return Scene(theta=theta, h=h, lam=lam, nu=nu if material == "koiter" else 0.5,
+                 model=model, material=material,
                  apex="free", edge="clamped", fields=unstimulated, parameter="pressure",
                  pressure=pressure)
 
@@ -139,53 +153,15 @@ def branch(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     c = pressure_scale(sc.h, nu, material=material, lam=lam)
     H = 1.0 - math.cos(sc.theta)
     options = (_options(DS_MAX) if options is None
-               else options).with_(fold_tol=tol * c)
+               else options).with_fold_tol(tol * c, given=options is not None, scale=c)
     b = shellbvp.follow(sc, method=method, p0=0.0, n_folds=n_folds,
                         w_stop=(-W_STOP_RISES * H, math.inf), options=options)
     if csv_path is not None:
         lines = ["p_over_p0,w_apex_over_t,w_apex_over_H,is_fold"]
         for p, w, _, _, _, _, fold in b.rows():
             lines.append(f"{p / c!r},{w / sc.h!r},{w / H!r},{int(fold)}")
-        shellbvp.atomic_write_text(csv_path, "\n".join(lines) + "\n")
+        atomic_write_text(csv_path, "\n".join(lines) + "\n")
     return b
-
-
-@dataclass(frozen=True)
-class PressureResult:
-    """The axisymmetric snap-through pressure of a clamped cap.
-
-    Attributes:
-        lambda_B, R_over_t, nu: the cap (module docstring); theta, h: its Theta and t/R.
-        snaps: whether the branch from p = 0 has a pressure maximum before the apex has
-            gone ``W_STOP_RISES`` rises down.
-        p_cr_over_p0: the pressure maximum in units of p0 (nan when it does not snap).
-        error_estimate: estimate of the error in p_cr_over_p0 (refinement ladder of the
-            fold, with the round-off floor).
-        w_apex: apex displacement at the fold, in R0 (negative: downward); w_apex_over_t
-            and w_apex_over_H the same in t and in the rise H.
-        fold, branch: the :class:`shellbvp.Fold` and :class:`shellbvp.Branch`.
-    """
-
-    lambda_B: float
-    R_over_t: float
-    nu: float
-    material: str
-    theta: float
-    h: float
-    snaps: bool
-    p_cr_over_p0: float
-    error_estimate: float
-    w_apex: float
-    fold: object = field(repr=False, default=None)
-    branch: object = field(repr=False, default=None)
-
-    @property
-    def w_apex_over_t(self) -> float:
-        return self.w_apex / self.h
-
-    @property
-    def w_apex_over_H(self) -> float:
-        return self.w_apex / (1.0 - math.cos(self.theta))
 
 
 def critical_pressure(lambda_B, *, R_over_t=100.0, nu=0.3, material="koiter", lam=1.0,

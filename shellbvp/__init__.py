@@ -2,65 +2,64 @@
 stimulated spherical shells, continuation and folds (Taffetani & Pezzulla, "Nonlinear
 morphoelastic energy based theory for stimuli responsive elastic shells").
 
-Public API
-----------
+Public API (this module; everything else is reached through its submodules)
+------------------------------------------------------------------------------
 Energies (paper Sections 2-4; derived symbolically from the 3D densities)
-    energy_density, energy_terms, EnergyTerms, thickness_map, stationary_series,
-    MODELS, MATERIALS
+    energy_density, energy_terms, EnergyTerms, MODELS, MATERIALS
 Problem
-    Scene, uniform_curvature (scenes as data); ShellBVP, reference_state (the multi-point
-    axisymmetric BVP of a scene, written once)
-Methods (discretisations behind one protocol)
+    Scene, uniform_curvature (scenes as data)
+Methods (discretisations behind one protocol, :mod:`shellbvp.methods`)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
-    default_nodes, bracketing_nodes
+    as_method
 Solving and continuation
-    solve, follow, at_monitor, fold_near, fold_curve_point, fold_gradient, MonitorPoint,
-    FoldCurvePoint, ContinuationOptions
+    solve, follow, at_monitor, fold_near, fold_curve_point, fold_gradient,
+    ContinuationOptions
 Stability
-    second_variation, SecondVariation (the discrete second variation of the energy)
+    second_variation
 Results
-    Equilibrium, Branch, Fold, ConvergenceError
-Files
-    atomic_write_text
+    Equilibrium, Branch, Fold, MonitorPoint, FoldCurvePoint, SecondVariation, SnapResult,
+    Onset, PressureResult, ConvergenceError
 
-Scenes of the paper live in :mod:`shellbvp.problems` (cap eversion, closed sphere), the
-command line in :mod:`shellbvp.cli`. Names are imported on first use, so ``import shellbvp``
-is cheap; the compiled parts turn on JAX float64 (``jax_enable_x64``), the one global JAX
-setting the package changes, because continuation and fold refinement work at 1e-10.
+Lower tiers: :mod:`shellbvp.bvp` (``ShellBVP``, the multi-point BVP of a scene),
+:mod:`shellbvp.methods` (``default_nodes``, ``bracketing_nodes``, the protocols),
+:mod:`shellbvp.continuation` (Newton, pseudo-arclength, folds), :mod:`shellbvp.energy`
+(``thickness_map``), :mod:`shellbvp.series`, :mod:`shellbvp.cache` (``atomic_write_text``).
+Scenes of the paper live in :mod:`shellbvp.problems`, the command line in
+:mod:`shellbvp.cli`.
+
+``import shellbvp`` loads numpy and scipy only: JAX (~1 s to import), sympy and diffrax are
+imported by the functions that need them. The compiled parts turn on JAX float64
+(``jax_enable_x64``), the one global JAX setting the package changes, because
+continuation and fold refinement work at 1e-10.
 """
 
-from importlib import import_module
+from importlib.metadata import PackageNotFoundError, version as _version
 
-__version__ = "0.2.0"
+from .continuation.options import ContinuationOptions
+from .driver import (FoldCurvePoint, MonitorPoint, at_monitor, fold_curve_point, fold_gradient,
+                     fold_near, follow, solve)
+from .energy import EnergyTerms, energy_density, energy_terms
+from .errors import ConvergenceError
+from .methods import Chebyshev, Collocation, Shooting, as_method
+from .models import MATERIALS, MODELS
+from .results import Branch, Equilibrium, Fold
+from .scene import Scene, uniform_curvature
+from .scene_results import Onset, PressureResult, SnapResult
+from .stability import SecondVariation, second_variation
 
-_WHERE = {
-    "energy_density": "energy", "energy_terms": "energy", "EnergyTerms": "energy",
-    "thickness_map": "energy", "stationary_series": "series",
-    "MODELS": "models", "MATERIALS": "models",
-    "Scene": "scene", "uniform_curvature": "scene",
-    "ShellBVP": "bvp", "reference_state": "bvp",
-    "Chebyshev": "methods", "Shooting": "methods", "Collocation": "methods",
-    "default_nodes": "methods.chebyshev", "bracketing_nodes": "methods.chebyshev",
-    "solve": "driver", "follow": "driver", "at_monitor": "driver", "MonitorPoint": "driver",
-    "fold_near": "driver", "fold_gradient": "driver", "fold_curve_point": "driver",
-    "FoldCurvePoint": "driver",
-    "ContinuationOptions": "continuation",
-    "Equilibrium": "results", "Branch": "results", "Fold": "results",
-    "ConvergenceError": "errors",
-    "second_variation": "stability", "SecondVariation": "stability",
-    "atomic_write_text": "cache",
-}
+try:
+    __version__ = _version("shellbvp")
+except PackageNotFoundError:        # a source tree that is not installed
+    __version__ = "0+unknown"
 
-__all__ = sorted(_WHERE)
-
-
-def __getattr__(name):
-    if name in _WHERE:
-        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'shellbvp' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__all__ = [
+    "energy_density", "energy_terms", "EnergyTerms", "MODELS", "MATERIALS",
+    "Scene", "uniform_curvature",
+    "Chebyshev", "Shooting", "Collocation", "as_method",
+    "solve", "follow", "at_monitor", "fold_near", "fold_curve_point", "fold_gradient",
+    "ContinuationOptions",
+    "second_variation",
+    "Equilibrium", "Branch", "Fold", "MonitorPoint", "FoldCurvePoint", "SecondVariation",
+    "SnapResult", "Onset", "PressureResult", "ConvergenceError",
+    "__version__",
+]

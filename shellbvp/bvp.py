@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache, partial
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -182,6 +182,33 @@ def _disk_key(functions, *parts) -> str | None:
     return repr((_package_source(), tuple(names), parts))
 
 
+class Kernels(NamedTuple):
+    """The compiled programs of a scene (:func:`_kernels`), each a :class:`Packed` (kept
+    on disk) except the traceable ``vector_field``."""
+
+    #: rhs, boundary conditions and monitor at one iterate, in one dispatch
+    collocate: Packed
+    #: the rhs and its Jacobians at nodes
+    nodal: Packed
+    #: the principal state and W's jet along a meridian (inner roots followed node to node)
+    state: Packed
+    #: boundary rows (pole series and edge) with their Jacobians
+    boundary: Packed
+    #: the observable and its gradient
+    observable: Packed
+    #: derivatives of f and of the boundary rows in theta, the material and h ...
+    sensitivity: Packed
+    boundary_sensitivity: Packed
+    #: ... and in theta alone (compiles ~5x faster)
+    geometry_sensitivity: Packed
+    boundary_geometry_sensitivity: Packed
+    #: the fold system's second derivatives at nodes, and the observable's
+    fold_nodal: Packed
+    observable_curvature: Packed
+    #: (piece, s, y, p, material parameter, h, c) -> f (6,), traceable (shooting)
+    vector_field: Callable
+
+
 @lru_cache(maxsize=32)
 def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=False,
              pressure=None, n_field_parameters=0):
@@ -211,7 +238,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
 
     def nodal_one(piece, s, y, p, lam, h, c, q_init):
         F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_, c), (p,), (jnp.ones_like(p),))
-        f, J, fp, ok, q, dq = pf["rhs_jac"](y, s, F, dF, lam, h, q_init)
+        f, J, fp, ok, q, dq = pf.rhs_jac(y, s, F, dF, lam, h, q_init)
         return F, f, J, fp, ok, q, dq
 
     def state_along(piece, s, y, p, lam, h, c, q_start, q_hints):
@@ -223,9 +250,9 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         def across(q, y_, s_, F_prev, F):
             def sub(i, q_):
                 t = (i + 1.0) / INTERFACE_STEPS
-                q_new, _, ok = pf["algebraic"](y_, s_, (1 - t) * F_prev + t * F, lam, h, q_)
+                q_new, _, ok = pf.algebraic(y_, s_, (1 - t) * F_prev + t * F, lam, h, q_)
                 return jnp.where(ok, q_new, jnp.nan)
-            return pf["algebraic"](y_, s_, F, lam, h,
+            return pf.algebraic(y_, s_, F, lam, h,
                                    jax.lax.fori_loop(0, INTERFACE_STEPS, sub, q))
 
         def step(carry, args):
@@ -235,14 +262,14 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             # a given hint (the root a solver converged to there) comes first: near a loss
             # of ellipticity the previous node's root may lead to no elliptic one
             hinted = jnp.all(jnp.isfinite(q_hint))
-            warm = pf["algebraic"](y_, s_, F, lam, h, jnp.where(hinted, q_hint, q))
+            warm = pf.algebraic(y_, s_, F, lam, h, jnp.where(hinted, q_hint, q))
             carried = jax.lax.cond(warm[2] | ~hinted, lambda: warm,
-                                   lambda: pf["algebraic"](y_, s_, F, lam, h, q))
+                                   lambda: pf.algebraic(y_, s_, F, lam, h, q))
             second = jax.lax.cond(carried[2], lambda: carried,
                                   lambda: across(q, y_, s_, F_prev, F))
             q_new, X, ok = jax.lax.cond(second[2], lambda: second,
-                                        lambda: pf["algebraic"](y_, s_, F, lam, h))
-            gw, Hw = pf["hessian"](y_, q_new, s_, F, lam, h)
+                                        lambda: pf.algebraic(y_, s_, F, lam, h))
+            gw, Hw = pf.hessian(y_, q_new, s_, F, lam, h)
             return (jnp.where(ok, q_new, q), F), (X, F, ok, gw, Hw)
 
         F0 = fields_at(piece[0], s[0], p, c)
@@ -251,7 +278,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         return X, F, ok, gw, Hw, q_end
 
     def pole_rows(ya, q, eps, F0, lam, h, fns=pf):
-        X = fns["X"](ya, q, eps, F0, h)
+        X = fns.X(ya, q, eps, F0, h)
         third = ya[1] + ya[0] * ya[2] / 2 if apex == "held" else ya[5]
         # regularity of the deformed surface at the apex: equal actual stretches
         # g1 lam1 = g2 lam2 (r ~ g1 lam1 s and lam2 = r / (g2 sin s)) and k1 = k2
@@ -262,7 +289,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
             # W_k1k1 and k* the curvatures that make the moments vanish (W is quadratic in
             # k); k1 - k2 = A at eps excludes the 1/s mode exactly as k1 = k2 does for a
             # regular apex, where A = 0
-            g, H = fns["hessian"](ya, q, eps, F0, lam, h)
+            g, H = fns.hessian(ya, q, eps, F0, lam, h)
             kstar = X[2:] - solve_2x2(H[2:, 2:], g[2:])
             dk = (1.0 - H[2, 3] / H[2, 2]) * (kstar[0] - kstar[1]) / 2.0
         return jnp.stack([F0[0] * X[0] - F0[1] * X[1], X[2] - X[3] - dk, third])
@@ -313,8 +340,8 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         # shooting evaluation, 0.59 -> 0.22 s at rtol 1e-8; Jacobians equal to 2e-12)
         F = fields_at(piece, s, p, c)
         stop = jax.lax.stop_gradient
-        q_root, _, _ = pf["root"](stop(y), stop(s), stop(F), stop(lam), stop(h))
-        return pf["f_linear"](y, s, F, lam, h, q_root)
+        q_root, _, _ = pf.root(stop(y), stop(s), stop(F), stop(lam), stop(h))
+        return pf.f_linear(y, s, F, lam, h, q_root)
 
     ax = (0, 0, 0, None, None, None, None, 0)
     nodal = jax.vmap(nodal_one, in_axes=ax)
@@ -324,10 +351,10 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         # included (they depend on s), by implicit differentiation of the inner root; with
         # geometry_only, in s alone (zeros for the others): a derivative of the relaxed
         # energy in lam and h costs ~20 s of compilation that a theta derivative does not need
-        q_root, _, _ = pf["root"](y, s, fields_at(piece, s, p, c), lam, h, q_init)
+        q_root, _, _ = pf.root(y, s, fields_at(piece, s, p, c), lam, h, q_init)
 
         def f(s_, lam_, h_):
-            return pf["f_linear"](y, s_, fields_at(piece, s_, p, c), lam_, h_, q_root)
+            return pf.f_linear(y, s_, fields_at(piece, s_, p, c), lam_, h_, q_root)
 
         if geometry_only:
             value, ds = jax.jvp(lambda s_: f(s_, lam, h), (s,), (jnp.ones_like(s),))
@@ -337,11 +364,11 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
     def boundary_sensitivity(ya, yb, p, eps, theta, lam, h, c, geometry_only=False):
         # the boundary rows' derivatives in (eps, theta, material parameter, h) and the
         # monitor's in theta, at fixed ya, yb and p (geometry_only: zeros for lam, h)
-        q_root, _, _ = pf["root"](ya, eps, fields_at(0, eps, p, c), lam, h)
+        q_root, _, _ = pf.root(ya, eps, fields_at(0, eps, p, c), lam, h)
 
         def rows(eps_, theta_, lam_, h_):
             F0 = fields_at(0, eps_, p, c)
-            q = pf["q_linear"](ya, eps_, F0, lam_, h_, q_root)
+            q = pf.q_linear(ya, eps_, F0, lam_, h_, q_root)
             return jnp.concatenate([pole_rows(ya, q, eps_, F0, lam_, h_),
                                     edge_conditions(yb, theta_)])
 
@@ -357,10 +384,10 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
         # inner root q (derivative dq): the derivative of phi along (v, dp) and that of its
         # gradient in (y, p, s), exact (``curvature`` of :func:`point_functions`)
         def phi(fns, y_, q_, s_, F_):
-            return jnp.stack([wn @ fns["f"](y_, q_, s_, F_, lam, h),
+            return jnp.stack([wn @ fns.f(y_, q_, s_, F_, lam, h),
                               wb @ pole_rows(y_, q_, s_, F_, lam, h, fns)])
 
-        return pf["curvature"](phi, (y, p, s), (v, dp, jnp.zeros_like(s)), lam, h, q, dq,
+        return pf.curvature(phi, (y, p, s), (v, dp, jnp.zeros_like(s)), lam, h, q, dq,
                                lambda s_, p_: fields_at(piece, s_, p_, c))
 
     def observable_curvature(ya, yb, theta, va, vb):
@@ -376,7 +403,7 @@ def _kernels(model, material, rhob1, metric, fields, P, apex, edge, log_apex=Fal
                                   (nod[4][0], nod[5][0], nod[6][0])),
                 jax.value_and_grad(observable, argnums=(0, 1))(ya, yb, theta))
 
-    return dict(
+    return Kernels(
         collocate=packed(collocate, "collocate"),
         nodal=packed(nodal, "nodal"),
         state=packed(state_along, "state"),
@@ -513,10 +540,6 @@ class ShellBVP:
         """The undeformed state at s (the default guess)."""
         return reference_state(s)
 
-    @property
-    def material_parameter(self) -> float:
-        return self.scene.material_parameter
-
     # --- nodal functions ----------------------------------------------------------------------
     def _layout(self, P, m, size=None):
         """Per node count: the piece of every flattened node and the padded chunks (of the
@@ -531,17 +554,16 @@ class ShellBVP:
             self._layouts[key] = (np.repeat(np.arange(P), m), chunks)
         return self._layouts[key]
 
-    def _flat(self, name, s, Y, p, extra=(), *, scalars=(), chunk=None):
-        """Call kernel ``name`` on every node of s (P, m), Y (P, 6, m), in padded chunks
+    def _flat(self, kernel, s, Y, p, extra=(), *, scalars=(), chunk=None):
+        """Call the nodal ``kernel`` on every node of s (P, m), Y (P, 6, m), in padded chunks
         (of size ``chunk`` if given), with per-node ``extra`` arrays and trailing
         ``scalars``."""
         P, m = s.shape
         piece, chunks = self._layout(P, m, chunk)
         sf = s.reshape(-1)
         yf = _flat_nodes(Y)
-        kernel = self._k[name]
         handles = [kernel.dispatch(piece[idx], sf[idx], yf[idx], float(p),
-                                   self.material_parameter, self.scene.h,
+                                   self.scene.material_parameter, self.scene.h,
                                    self.field_parameters,
                                    *[e[idx] for e in extra], *scalars)
                    for _, _, idx in chunks]
@@ -570,10 +592,10 @@ class ShellBVP:
         and ValueError for inadmissible stimulus fields.
         """
         s, Y, q0 = self._nodal_args(s, Y, hint, p)
-        out = self._flat("nodal", s, Y, p, (q0,))
+        out = self._flat(self._k.nodal, s, Y, p, (q0,))
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
-            out = self._flat("nodal", s, Y, p, (q0,))
+            out = self._flat(self._k.nodal, s, Y, p, (q0,))
         return self._nodal_result(s, Y, p, out)
 
     def _nodal_args(self, s, Y, hint, p):
@@ -640,8 +662,8 @@ class ShellBVP:
         yf = _flat_nodes(Y)
 
         def call(q):
-            nod, bc, mon = self._k["collocate"](
-                piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.material_parameter,
+            nod, bc, mon = self._k.collocate(
+                piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.scene.material_parameter,
                 sc.h, self.field_parameters, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps,
                 sc.theta)
             return [o[:P * m] for o in nod], bc, mon
@@ -685,8 +707,8 @@ class ShellBVP:
         q = np.full(2, np.nan)         # the first node starts from the pole-like guess
         outs = []
         for start, stop, idx in chunks:
-            X, F, ok, gw, Hw, q = self._k["state"](piece[idx], sf[idx], yf[idx], float(p),
-                                                   self.material_parameter, self.scene.h,
+            X, F, ok, gw, Hw, q = self._k.state(piece[idx], sf[idx], yf[idx], float(p),
+                                                   self.scene.material_parameter, self.scene.h,
                                                    self.field_parameters, q,
                                                    qh[idx])
             n = stop - start
@@ -699,9 +721,9 @@ class ShellBVP:
         derivatives in ya = y(eps), yb = y(theta) and p. Interface continuity is imposed by
         the methods (all six components)."""
         sc = self.scene
-        return self._boundary_result(self._k["boundary"](
+        return self._boundary_result(self._k.boundary(
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.material_parameter, sc.h, self.field_parameters), p)
+            sc.theta, self.scene.material_parameter, sc.h, self.field_parameters), p)
 
     def sensitivities(self, s, Y, p, hint=None, geometry_only=False):
         """f and its derivatives in (s, material parameter, h) at nodes s (P, m), states
@@ -712,7 +734,8 @@ class ShellBVP:
         faster)."""
         s, Y, q0 = self._nodal_args(s, Y, hint, p)
         P, m = s.shape
-        f, df = self._flat("geometry_sensitivity" if geometry_only else "sensitivity", s, Y, p,
+        kernel = self._k.geometry_sensitivity if geometry_only else self._k.sensitivity
+        f, df = self._flat(kernel, s, Y, p,
                            (q0,))
         if not np.all(np.isfinite(df)):
             raise ConvergenceError("parameter derivatives of the right-hand side are not "
@@ -725,10 +748,11 @@ class ShellBVP:
         h) as (6, 4), and of the monitor in theta, at fixed ya, yb and p (``geometry_only``:
         zeros for the material parameter and h)."""
         sc = self.scene
-        name = "boundary_geometry_sensitivity" if geometry_only else "boundary_sensitivity"
-        dr, dm = self._k[name](
+        kernel = (self._k.boundary_geometry_sensitivity if geometry_only
+                  else self._k.boundary_sensitivity)
+        dr, dm = kernel(
             np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.material_parameter, sc.h, self.field_parameters)
+            sc.theta, self.scene.material_parameter, sc.h, self.field_parameters)
         return np.asarray(dr), float(dm)
 
     def fold_terms(self, s, Y, p, Wn, wb, V, dp, hint=None):
@@ -748,7 +772,7 @@ class ShellBVP:
         WB[0] = wb
         # chunks of one size, FOLD_CHUNK: every resolution runs on one compiled program
         # (~13 s to compile for a relaxed energy, against ~0.1 ms per extra chunk)
-        out = self._flat("fold_nodal", s, Y, p,
+        out = self._flat(self._k.fold_nodal, s, Y, p,
                          (hint.q, hint.dq, _flat_nodes(Wn), WB, _flat_nodes(V)),
                          scalars=(float(dp),), chunk=FOLD_CHUNK)
         dphi, dgy, dgp, dgs = out
@@ -759,7 +783,7 @@ class ShellBVP:
 
     def monitor_curvature(self, ya, yb, va, vb):
         """The gradient in (ya, yb, theta) of the monitor's derivative along (va, vb)."""
-        out = self._k["observable_curvature"](np.asarray(ya, float), np.asarray(yb, float),
+        out = self._k.observable_curvature(np.asarray(ya, float), np.asarray(yb, float),
                                               self.scene.theta, np.asarray(va, float),
                                               np.asarray(vb, float))
         return tuple(np.asarray(o) for o in out)
@@ -775,14 +799,14 @@ class ShellBVP:
 
     def monitor(self, ya, yb):
         """The observable w / H (module docstring) and its gradients in ya and yb."""
-        m, (ga, gb) = self._k["observable"](np.asarray(ya, dtype=float),
+        m, (ga, gb) = self._k.observable(np.asarray(ya, dtype=float),
                                             np.asarray(yb, dtype=float), self.scene.theta)
         return float(m), np.asarray(ga), np.asarray(gb)
 
     def vector_field(self):
         """The traceable point function (piece, s, y, p, material_parameter, h) -> f (6,),
         for methods that integrate the ODE themselves (shooting)."""
-        return self._k["vector_field"]
+        return self._k.vector_field
 
     # --- post-processing ----------------------------------------------------------------------
     def profile(self, dense_t):

@@ -31,16 +31,25 @@ def _common(p, theta=True):
         p.add_argument("--theta", type=float, default=math.pi / 6,
                        help="opening half-angle Theta in radians, in (0, pi) (default pi/6)")
     p.add_argument("--h", type=float, default=0.01, help="thickness h0/R0 in (0, 1) (default 0.01)")
-    p.add_argument("--lam", type=float, default=1.0, help="lambda*/mu* > 0 (default 1)")
-    p.add_argument("--model", default="relaxed", choices=["plane_strain", "relaxed"])
+    p.add_argument("--lam", type=float, default=1.0,
+                   help="lambda*/mu* > 0, material cg only (default 1)")
+    p.add_argument("--model", default="relaxed", choices=["plane_strain", "relaxed"],
+                   help="reduced model, material cg only (default relaxed)")
     p.add_argument("--material", default="cg", choices=["cg", "nh", "koiter"])
     p.add_argument("--nu", type=float, default=0.5,
-                   help="Poisson ratio of the Koiter reference model (default 0.5)")
+                   help="Poisson ratio, material koiter only (default 0.5)")
     p.add_argument("--tol", type=float, default=1e-9,
                    help="target accuracy of kappa_s, in (0, 1) (default 1e-9)")
-    p.add_argument("--method", "--backend", dest="method", default="spectral",
+    p.add_argument("--method", default="spectral",
                    choices=["spectral", "shooting", "collocation"],
                    help="discretisation (default spectral: Chebyshev collocation)")
+
+
+def _material(a) -> str:
+    """The material and only the parameters it uses."""
+    return {"cg": f"material = cg, lam = {a.lam:g}, model = {a.model}",
+            "nh": "material = nh (incompressible)",
+            "koiter": f"material = koiter, nu = {a.nu:g}"}[a.material]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -87,8 +96,8 @@ def main(argv=None) -> int:
                   "takes ~10-30 s once per process)...", file=sys.stderr, flush=True)
         if a.command == "snap":
             r = ce.snap_curvature(a.theta, a.h, a.lam, tol=a.tol, **opts)
-            print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, lam = {a.lam:g}, model = {a.model}, "
-                  f"material = {a.material}, T = Theta sqrt(R0/h0) = {r.T:.4g}")
+            print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, {_material(a)}, "
+                  f"T = Theta sqrt(R0/h0) = {r.T:.4g}")
             if r.snaps:
                 print(f"kappa_s R0 = {r.kappa_s:.10f} +- {r.error_estimate:.1e}")
                 print(f"w_s / R0   = {r.w_s:.10f}")

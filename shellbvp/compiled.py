@@ -15,16 +15,18 @@ These are single-node functions; :mod:`shellbvp.bvp` vmaps and compiles them for
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Callable, NamedTuple
 
 import numpy as np
 
 from . import cache
+from .convergence import CONTRACTION_BOUND
 from .ellipticity import legendre_form
 from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["point_functions", "energy_function", "solve_2x2", "NEWTON_TOL"]
+__all__ = ["point_functions", "PointFunctions", "energy_function", "solve_2x2", "NEWTON_TOL"]
 
 #: inner (lam1, k1) Newton: converges quadratically from the pole-like guess in 3-6 steps;
 #: 40 only bounds the work on a wild outer iterate (which then reports failure).
@@ -36,9 +38,8 @@ NEWTON_TOL = 1e-13
 #: update no longer halves has reached that floor, and is converged if the update is below
 #: this (the solution then carries ~1e-12 relative error, far below every outer tolerance)
 NEWTON_FLOOR = 1e-9
-#: bound on the quadratic-convergence constant C (next update ~ C update^2, relative) of
-#: the inner Newton, assumed after its first step (measured after the second)
-CONTRACTION_BOUND = 100.0
+#: the inner Newton assumes C = CONTRACTION_BOUND (:mod:`shellbvp.convergence`) after its
+#: first step and measures it after the second
 #: the predicted next update (relative) at which the root is final
 ROUND_OFF = 1e-16
 
@@ -143,11 +144,37 @@ def _arr(x):
     return jnp.asarray(x, dtype=jnp.float64)
 
 
+class PointFunctions(NamedTuple):
+    """The single-node JAX functions of a model (:func:`point_functions`; arguments y (6,),
+    s, F (5,): g1, g2, kb1, kb2, pressure; lam, h)."""
+
+    #: the inner Newton: (y, s, F, lam, h, q_init) -> (q, steps, converged)
+    root: Callable
+    #: (y, s, F, lam, h, q_init) -> (q, X, converged), not differentiable
+    algebraic: Callable
+    #: the principal state X = (lam1, lam2, k1, k2) at (y, q, s, F, h)
+    X: Callable
+    #: (f, df/dy, df/dF . dF, converged, q, [dq/dy, dq/dF . dF]) by implicit differentiation
+    rhs_jac: Callable
+    #: the gradient and Hessian of W in X at (y, q)
+    hessian: Callable
+    #: the root and f as functions of (y, s, F, lam, h), exact to first order
+    q_linear: Callable
+    f_linear: Callable
+    #: f at a given q
+    f: Callable
+    #: the gradient of a function along the root
+    implicit_gradient: Callable
+    #: second derivatives along the root, for the fold system (None in the inner set that
+    #: :func:`point_functions` builds it from)
+    curvature: Callable | None = None
+
+
 @lru_cache(maxsize=None)
-def point_functions(model, material, rhob1, metric):
+def point_functions(model, material, rhob1, metric) -> PointFunctions:
     """Single-node JAX functions (y (6,), s, F (5,): g1, g2, kb1, kb2, pressure; lam, h) -> ...
 
-    Returns a dict with ``algebraic`` -> (q, X, converged) (not differentiable),
+    Returns :class:`PointFunctions`: ``algebraic`` -> (q, X, converged) (not differentiable),
     ``X`` (the principal state at (y, q)) and ``rhs_jac`` -> (f, df/dy, df/dF . dF,
     converged, q, [dq/dy, dq/dF . dF]): the right-hand side, its Jacobian and its
     derivative along a change dF of the fields (df/dp when dF = dF/dp), all by implicit
@@ -188,7 +215,7 @@ def point_functions(model, material, rhob1, metric):
             # component in s)
             F_ = fields(s_, p_)
             q = q_root + dq[:, :6] @ (y_ - stop(y_)) + dq[:, 6] * (p_ - stop(p_))
-            return jnp.concatenate([pf["X"](y_, q, s_, F_, h), F_[2:4]])
+            return jnp.concatenate([pf.X(y_, q, s_, F_, h), F_[2:4]])
 
         Z0, a = (stop(v) for v in jax.jvp(Z_of, x, t))
 
@@ -214,14 +241,14 @@ def point_functions(model, material, rhob1, metric):
             def ph(yy, qq, ss, FF):
                 return jnp.sum(phi(fns, yy, qq, ss, FF))
 
-            gy, gs, gF = fns["implicit_gradient"](ph, y_, s_, F_, lam, h, q_root)
+            gy, gs, gF = fns.implicit_gradient(ph, y_, s_, F_, lam, h, q_root)
             gp, gs_fields = fields_vjp(gF)
-            q = fns["q_linear"](y_, s_, F_, lam, h, q_root)
+            q = fns.q_linear(y_, s_, F_, lam, h, q_root)
             return phi(fns, y_, q, s_, F_), gy, gp, gs + gs_fields
 
         return jax.jvp(value_and_gradient, x, t)[1]
 
-    return dict(pf, curvature=curvature)
+    return pf._replace(curvature=curvature)
 
 
 def _functions_of(W4, el):
@@ -370,7 +397,7 @@ def _functions_of(W4, el):
         _, g, H = jet(y, q, s, F, lam, h)
         return g, H
 
-    return {"root": root, "algebraic": algebraic, "X": X_of, "rhs_jac": rhs_jac,
-            "hessian": hessian, "q_linear": q_linear, "f_linear": f_linear,
-            "f": lambda y, q, s, F, lam, h: f_and_G(y, q, s, F, lam, h)[0],
-            "implicit_gradient": implicit_gradient}
+    return PointFunctions(root=root, algebraic=algebraic, X=X_of, rhs_jac=rhs_jac,
+                          hessian=hessian, q_linear=q_linear, f_linear=f_linear,
+                          f=lambda y, q, s, F, lam, h: f_and_G(y, q, s, F, lam, h)[0],
+                          implicit_gradient=implicit_gradient)

@@ -12,11 +12,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .bvp import ShellBVP, reference_state
 from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fold_sensitivity,
                            ladder, newton, pseudo_arclength, refine_fold, tangent)
 from .errors import ConvergenceError
-from .methods import as_method
+from .models import MATERIAL_PARAMETER
+from .methods import Collocation, as_method
+from .methods.base import DirectSolver, SecondOrder, Transplantable
 from .ellipticity import elliptic_point, stall_reason
 from .results import Branch, Equilibrium, Fold, equilibrium_from, failed_equilibrium
 from .scene import Scene
@@ -30,6 +31,14 @@ SOLVE_NEWTON_TOL = 1e-10
 SOLVE_MAXITER = 40
 #: points per piece at which a solution and its refinement are compared (error estimate)
 ERROR_SAMPLES = 65
+def _shell_bvp(scene, eps):
+    """The BVP of ``scene`` (imported here: its compiled kernels bring JAX, which
+    ``import shellbvp`` does not load)."""
+    from .bvp import ShellBVP
+
+    return ShellBVP(scene, eps)
+
+
 def _check_p(scene, p):
     if np.ndim(p) != 0 or not np.isfinite(p):
         raise ValueError(f"{scene.parameter} must be a finite scalar, got {p!r}")
@@ -37,6 +46,8 @@ def _check_p(scene, p):
 
 def _profile_of(guess):
     if guess is None:
+        from .bvp import reference_state
+
         return reference_state
     if isinstance(guess, Equilibrium):
         return guess.unknowns
@@ -44,6 +55,17 @@ def _profile_of(guess):
         raise ValueError(f"guess must be an Equilibrium or a callable s -> (6, n), got "
                          f"{type(guess).__name__}")
     return guess
+
+
+def _continuation_method(method):
+    """The method object of a continuation: options that only :func:`solve` reads are
+    refused here rather than ignored."""
+    method = as_method(method)
+    if isinstance(method, Collocation) and method.tol is not None:
+        raise ValueError(f"Collocation.tol = {method.tol!r} is solve_bvp's tolerance for one "
+                         f"equilibrium (solve); a continuation refines its folds to "
+                         f"options.fold_tol (a scene's tol): leave Collocation.tol unset")
+    return method
 
 
 def _newton_at(system, U, p, what):
@@ -58,7 +80,7 @@ def _newton_at(system, U, p, what):
 
 
 def _discrete_solve(method, bvp, p, profile):
-    if hasattr(method, "solve"):          # a method with its own solver (solve_bvp)
+    if isinstance(method, DirectSolver):    # a method with its own solver (solve_bvp)
         return method.solve(bvp, p, profile)
     system = method.discretise(bvp)
     res = _newton_at(system, system.from_profile(profile), p, method.name)
@@ -92,7 +114,7 @@ def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float |
     _check_p(scene, p)
     method = as_method(method)
     profile = _profile_of(guess)
-    bvp = ShellBVP(scene, eps)
+    bvp = _shell_bvp(scene, eps)
     t0 = time.perf_counter()
     try:
         system, U, stats = _discrete_solve(method, bvp, float(p), profile)
@@ -147,8 +169,9 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     if not isinstance(options, ContinuationOptions):
         raise ValueError(f"options must be a ContinuationOptions, got {type(options).__name__}")
     t0 = time.perf_counter()
-    bvp = ShellBVP(scene, eps)
-    system = as_method(method).discretise(bvp)
+    method = _continuation_method(method)
+    bvp = _shell_bvp(scene, eps)
+    system = method.discretise(bvp)
     H = bvp.rise
     stop = ""
     try:
@@ -197,7 +220,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
                   arclength=np.array([pt.arclength for pt in pts]), folds=folds,
                   stats=dict(system.describe(), points=len(pts), evaluations=bvp.evaluations,
                              wall_time=time.perf_counter() - t0),
-                  points=tuple(pts), system=system, stop=stop)
+                  points=tuple(pts), system=system, stop=stop, method=method)
 
 
 @dataclass(frozen=True)
@@ -225,8 +248,8 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
     """
     if not math.isfinite(w):
         raise ValueError(f"w must be finite, got {w!r}")
-    bvp = ShellBVP(scene, eps)
-    system = as_method(method).discretise(bvp)
+    bvp = _shell_bvp(scene, eps)
+    system = _continuation_method(method).discretise(bvp)
     target = w / bvp.rise
     pts, _ = pseudo_arclength(system, system.from_profile(bvp.reference), float(p0),
                               options=options or ContinuationOptions.to_first_fold(),
@@ -235,9 +258,7 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
         raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
                                f"{pts[-1].monitor * bvp.rise:.6g})")
     q = min(pts[-2:], key=lambda q: abs(q.monitor - target))
-    dUdm, dpdm = q.dU / q.tangent[0], q.tangent[1] / q.tangent[0]
-    res = newton(system, q.U + (target - q.monitor) * dUdm, q.p + (target - q.monitor) * dpdm,
-                 1.0, 0.0, target, tol=SOLVE_NEWTON_TOL)
+    res = newton(system, *q.predicted(target), 1.0, 0.0, target, tol=SOLVE_NEWTON_TOL)
     if not res.ok:
         raise ConvergenceError(f"no solution with w = {w:g} prescribed: {res.history}")
     _, _, slope = tangent(res)
@@ -272,11 +293,11 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
     old = near.system
-    if not hasattr(old, "on") or old.bvp.P != scene.pieces:
+    if not isinstance(old, Transplantable) or old.bvp.P != scene.pieces:
         raise ValueError("fold_near needs a fold found by the Chebyshev method on a scene with "
                          "the same pieces")
     options = ContinuationOptions() if options is None else options
-    bvp = ShellBVP(scene, eps)
+    bvp = _shell_bvp(scene, eps)
     system = old.on(bvp)
     def displacement(f):
         d = f.U - f.system.from_profile(f.system.bvp.reference)
@@ -292,7 +313,7 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
         D = displacement(near)
     U = D + system.from_profile(bvp.reference)
     # the ladder starts where the tolerance needs it, not on the nearby fold's last rung
-    if hasattr(system, "curvature_terms"):
+    if isinstance(system, SecondOrder):
         try:
             return fold_ladder(system, U, p0, options=options)
         except ConvergenceError:
@@ -329,7 +350,7 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
     the snap is born. Raises ValueError for a fold of another method or a non-finite or
     non-positive step, ConvergenceError where the curve cannot be followed (e.g. past its
     end, where the fold ceases to exist)."""
-    if not (hasattr(near, "system") and hasattr(near.system, "curvature_terms")):
+    if not (isinstance(near, Fold) and isinstance(near.system, SecondOrder)):
         raise ValueError("fold_curve_point needs a fold found by the spectral method")
     if not (math.isfinite(monitor) and math.isfinite(step) and step > 0):
         raise ValueError(f"monitor must be finite and step positive, got monitor={monitor!r}, "
@@ -338,7 +359,7 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
     eps = None if near.system.bvp.eps_per_theta else near.system.bvp.eps
 
     def at_theta(system):
-        return lambda th: system.on(ShellBVP(replace(base, theta=float(th)), eps))
+        return lambda th: system.on(_shell_bvp(replace(base, theta=float(th)), eps))
 
     system, U, p, theta = near.system, near.U, near.p, base.theta
     steps = max(1, math.ceil(abs(monitor - near.monitor) / step))
@@ -371,8 +392,7 @@ def fold_gradient(fold) -> dict:
     the continuous problem. Needs a fold found by the spectral method (ValueError else).
     """
     d = fold_sensitivity(fold)
-    material = fold.system.bvp.scene.material
-    name = {"cg": "lam", "koiter": "nu"}.get(material)
+    name = MATERIAL_PARAMETER[fold.system.bvp.scene.material]
     out = {"theta": d["theta"], "h": d["h"]}
     if name is not None:
         out[name] = d["material"]

@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import checks
-from .models import MATERIALS, MODELS
+from .models import MATERIALS, MODELS, material_parameter
 
 __all__ = ["energy_density", "energy_terms", "EnergyTerms", "thickness_map"]
 
@@ -57,11 +57,6 @@ def _compiled(model: str, material: str):
         "w_b": f(red.w_b),
         "integrand": sp.lambdify(exact_args, red.integrand, modules="numpy", cse=True),
     }
-
-
-def material_parameter(material, lam, nu):
-    """The compiled functions take one material parameter: lam for cg, nu for koiter."""
-    return nu if material == "koiter" else lam
 
 
 def _validate(state, h, lam, model, material, rhob, exact, nu=0.5):

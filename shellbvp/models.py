@@ -8,5 +8,13 @@ Ciarlet-Geymonat, parameter lam = lambda*/mu*), ``nh`` (incompressible neo-Hooke
 
 MODELS = ("plane_strain", "relaxed")
 MATERIALS = ("cg", "nh", "koiter")
+#: the name of each material's parameter (None: the material has none)
+MATERIAL_PARAMETER = {"cg": "lam", "nh": None, "koiter": "nu"}
 
-__all__ = ["MODELS", "MATERIALS"]
+__all__ = ["MODELS", "MATERIALS", "MATERIAL_PARAMETER", "material_parameter"]
+
+
+def material_parameter(material: str, lam: float, nu: float) -> float:
+    """The one material slot of the compiled functions: lam for cg, nu for koiter (lam, unused,
+    for nh)."""
+    return nu if MATERIAL_PARAMETER[material] == "nu" else lam

@@ -19,6 +19,7 @@ import numpy as np
 from .cache import atomic_write_text
 from .ellipticity import ellipticity
 from .errors import ConvergenceError
+from .methods.base import InnerRoots
 from .scene import Scene
 
 __all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
@@ -118,7 +119,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     # root followed along the meridian from the pole may find none (the budding branches'
     # last points could not be evaluated before)
     roots = None
-    if hasattr(system, "inner_roots"):
+    if isinstance(system, InnerRoots):
         try:
             roots = system.inner_roots(U, p)
         except ConvergenceError:
@@ -177,7 +178,6 @@ class Fold:
         error_estimate: change of p on the last rung of the refinement ladder (``nan`` for
             a fold located on one discretisation only).
         index: the branch point after which it lies (-1 when not part of a branch).
-        bracket: the monitor interval it was searched in.
         stats: location statistics (solves, iterations, refinements, resolution, time).
     ``fold.equilibrium`` is the full state there (built on demand).
     """
@@ -186,7 +186,6 @@ class Fold:
     monitor: float
     U: np.ndarray = field(repr=False)
     system: Any = field(repr=False, compare=False)
-    bracket: tuple = ()
     error_estimate: float = math.nan
     index: int = -1
     stats: dict = field(repr=False, default_factory=dict)
@@ -219,6 +218,8 @@ class Branch:
         stats: method, resolution, points, evaluations, wall time.
         stop: why the branch ended before its stopping criteria ("" if it met one), e.g. the
             stall of a continuation followed with ``on_stall="stop"``.
+        method: the method object the branch was followed with (its points are solved
+            again with it, e.g. at a parameter value between them).
     ``branch.equilibrium(i)`` is the full state at point i (built on demand).
     """
 
@@ -235,6 +236,7 @@ class Branch:
     system: Any = field(repr=False, compare=False, default=None)
     stop: str = ""
     load_potential: np.ndarray = field(repr=False, default=None)
+    method: Any = field(repr=False, compare=False, default=None)
 
     def equilibrium(self, i: int) -> Equilibrium:
         """The equilibrium at point i of the branch."""

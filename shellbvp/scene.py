@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from . import checks
-from .models import MATERIALS, MODELS
+from .models import MATERIALS, MODELS, material_parameter
 
 __all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
 
@@ -33,6 +33,12 @@ THETA_MIN = 1e-3
 H_MIN = 1e-6
 #: largest lambda*/mu*: lam = 1e8 is Poisson ratio 0.5 - 5e-9
 LAM_MAX = 1e8
+#: the defaults of the material-dependent fields, which mean "absent" where unused
+SCENE_DEFAULTS = {"lam": 1.0, "nu": 0.5, "model": "relaxed"}
+#: what each material uses (for the error of a parameter it does not)
+USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parameter, and "
+        "J = 1 fixes the through-thickness stretch, so there is no model choice",
+        "koiter": "it uses nu; it is a reference energy, not a reduction with models"}
 APEX = ("held", "free")   # held: z(0) = 0 (vertical point force allowed); free: F_z = 0
 EDGE = ("free", "clamped")
 
@@ -61,8 +67,10 @@ class Scene:
     Attributes:
         theta: opening half-angle Theta in (0, pi).
         h: thickness h0/R0 in (0, 1).
-        lam: lambda*/mu* (> 0; Ciarlet-Geymonat only).
-        model, material: as in :func:`shellbvp.energy_density`.
+        lam: lambda*/mu* (> 0; Ciarlet-Geymonat only: other materials refuse a value other
+            than the default 1.0).
+        model, material: as in :func:`shellbvp.energy_density`; ``model`` applies to
+            ``material="cg"`` only (other materials refuse ``"plane_strain"``).
         rhob1: through-thickness stimulus (> 0; rhob2 = rhob3 = 0).
         apex: ``"held"`` (z(0) = 0) or ``"free"`` (no point force at the apex, F_z = 0).
         edge: ``"free"`` (M = F_r = F_z = 0) or ``"clamped"`` (r, z, theta at reference values).
@@ -82,7 +90,8 @@ class Scene:
         breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
         metric: whether the fields change the metric (g != 1).
         parameter: name of the scalar stimulus parameter p.
-        nu: Poisson ratio of the Koiter reference model (``material="koiter"``).
+        nu: Poisson ratio of the Koiter reference model (``material="koiter"`` only: other
+            materials refuse a value other than the default 0.5).
     """
 
     theta: float
@@ -104,7 +113,7 @@ class Scene:
     @property
     def material_parameter(self) -> float:
         """lam for cg, nu for koiter (the single material slot of the compiled functions)."""
-        return self.nu if self.material == "koiter" else self.lam
+        return material_parameter(self.material, self.lam, self.nu)
 
     def __post_init__(self):
         checks.check_open_interval("theta", self.theta, THETA_MIN, math.pi,
@@ -115,6 +124,15 @@ class Scene:
                                    f"width ~ sqrt(h) is beyond every method's resolution)")
         checks.check_choice("model", self.model, MODELS)
         checks.check_choice("material", self.material, MATERIALS)
+        # a parameter the material does not use must stay at its default (absent): a value
+        # that changes nothing is refused rather than silently ignored
+        unused = {"cg": ("nu",), "nh": ("lam", "nu", "model"),
+                  "koiter": ("lam", "model")}[self.material]
+        for name in unused:
+            if getattr(self, name) != SCENE_DEFAULTS[name]:
+                raise ValueError(f"{name} = {getattr(self, name)!r} does not apply to material="
+                                 f"{self.material!r} ({USES[self.material]}): leave {name} at "
+                                 f"its default {SCENE_DEFAULTS[name]!r}")
         if self.material == "cg":
             checks.check_open_interval("lam", self.lam, 0.0, LAM_MAX,
                                        " (lambda*/mu*; beyond, the bulk term swamps the "

@@ -28,9 +28,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .jaxsetup import jax
+from .results import Equilibrium
 
-import jax.numpy as jnp  # noqa: E402
 
 __all__ = ["SecondVariation", "second_variation"]
 
@@ -100,11 +99,15 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     ConvergenceError where the state cannot be evaluated at these points (no elliptic
     inner root, e.g. next to where a branch lost ellipticity).
     """
+    # JAX only here: ``import shellbvp`` stays light
+    from .jaxsetup import jax
+    import jax.numpy as jnp
+
     from .bvp import ShellBVP
     from .compiled import energy_function
     from .methods.chebyshev import chebyshev_points, default_nodes, differentiation_matrix
 
-    if not getattr(eq, "success", False):
+    if not (isinstance(eq, Equilibrium) and eq.success):
         raise ValueError("second_variation needs a converged Equilibrium")
     sc = eq.scene
     N = default_nodes(sc) if nodes is None else nodes

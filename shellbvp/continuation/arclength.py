@@ -45,6 +45,17 @@ class Point:
     dU: np.ndarray = field(repr=False, default=None)
     iterations: int = 0
 
+    @property
+    def slope(self) -> float:
+        """dp/dm along the branch here (exact, from the tangent)."""
+        return self.tangent[1] / self.tangent[0]
+
+    def predicted(self, monitor: float):
+        """(U, p) at the monitor value ``monitor`` predicted along this point's exact tangent
+        (the start of a Newton solve with that monitor prescribed)."""
+        dm = monitor - self.monitor
+        return self.U + dm * self.dU / self.tangent[0], self.p + dm * self.slope
+
 
 def _point(res: NewtonResult, v, dp, sign, arclength, n) -> Point:
     nrm = math.sqrt(float(v @ v) / n + dp * dp)
@@ -62,7 +73,7 @@ def _fold_ahead(a: Point, b: Point, reach: float):
     landed far past the fold: 16 evaluations instead of 14.)"""
     if a.tangent[0] * b.tangent[0] <= 0:
         return None
-    ga, gb = a.tangent[1] / a.tangent[0], b.tangent[1] / b.tangent[0]
+    ga, gb = a.slope, b.slope
     if not (ga * gb > 0 and abs(gb) < abs(ga)):
         return None
     move = -PROBE_REACH * gb * (b.monitor - a.monitor) / (gb - ga)
@@ -72,10 +83,7 @@ def _fold_ahead(a: Point, b: Point, reach: float):
 def _probe(system, b: Point, target: float, o: ContinuationOptions):
     """The branch point past b where the monitor equals ``target`` (Newton with the monitor
     prescribed, from b's tangent), or None where that fails."""
-    dm = target - b.monitor
-    res = newton(system, b.U + dm * b.dU / b.tangent[0],
-                 b.p + dm * b.tangent[1] / b.tangent[0], 1.0, 0.0, target,
-                 tol=o.newton_tol, maxiter=o.newton_maxiter, predict=o.predicted_stop)
+    res = newton(system, *b.predicted(target), 1.0, 0.0, target, tol=o.newton_tol, maxiter=o.newton_maxiter, predict=o.predicted_stop)
     return res if res.ok else None
 
 

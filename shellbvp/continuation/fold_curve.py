@@ -37,9 +37,10 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..results import Fold
+from ..methods.base import first_rung
 from .folds import climb
-from .newton import (CONTRACTION_BOUND, PREDICTED_FRACTION, ROUND_OFF_STEP, bordered_lu,
-                     one_update_error)
+from .newton import (PREDICTED_FRACTION, Stopping, bordered_lu, is_sparse, jacobian_error,
+                     relative_step)
 from .options import ContinuationOptions
 
 __all__ = ["fold_system_terms", "solve_fold", "fold_ladder", "fold_at_monitor"]
@@ -82,11 +83,6 @@ def fold_system_terms(system, U, p, *, theta=False, curvature=True):
     return out
 
 
-def _step_size(d, U, p):
-    return max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
-               abs(d[-1]) / (1.0 + abs(p)))
-
-
 def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_MAXITER,
                index: int = -1, refining: bool = False) -> Fold:
     """The fold of ``system`` near (U, p): Newton on (R, sigma) = 0 (module docstring).
@@ -106,7 +102,11 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
     t0 = time.perf_counter()
     U = np.array(U, dtype=float)
     p = float(p)
-    history, floor_hits, noise, left = [], 0, 0.0, math.inf
+    history, noise = [], 0.0
+    # the branch Newton's rules, its prediction asked to leave a hundredth of tol: a fold's
+    # location error is part of its estimate (stats["location"])
+    rule = Stopping(tol, min_iterations=2, predict=True, predicted_fraction=PREDICTED_FRACTION,
+                    one_update=refining, jacobian_error=jacobian_error(system))
     for it in range(1, maxiter + 1):
         # after an update below REUSE_STEP the last gradient of sigma is kept: it changes
         # by O(update), so the next update is off by O(update^2) at most, below the
@@ -127,41 +127,23 @@ def solve_fold(system, U, p, *, tol: float = FOLD_STEP_TOL, maxiter: int = FOLD_
         d = z - x * (rho @ z) / pivot
         U -= d[:-1]
         p -= d[-1]
-        step = _step_size(d, U, p)
+        step = relative_step(d, U, p)
         history.append((float(np.max(np.abs(R))), abs(sigma), step))
+        verdict = rule.after(step)
         if not math.isfinite(step):
+            raise ConvergenceError(f"fold system: non-finite update near p = {p:.10g}")
+        if verdict == "converged":
             break
-        # quadratic convergence: the error left after this update is ~ C step^2, C from the
-        # last two updates (a C above CONTRACTION_BOUND is not that regime but a stall, e.g.
-        # on an inexact Jacobian, whose next update is as large as this one): stop when that
-        # (or the update) is below tol, which saves the solve that would only confirm it.
-        # After the first update only on a refining rung, the Jacobian's error counted
-        # (:func:`one_update_error`)
-        C = step / history[-2][2] ** 2 if it >= 2 and history[-2][2] > 0 else math.inf
-        left = C * step**2 if C <= CONTRACTION_BOUND else math.inf  # the predicted next update
-        if it >= 2 and (step <= tol or left <= PREDICTED_FRACTION * tol):
+        if verdict == "floor":
+            noise = abs(d[-1])
             break
-        if it == 1 and refining:
-            # one update from a start ~1e-10 away (of this evaluation's Jacobian error)
-            left = one_update_error(step, getattr(system, "jacobian_error", math.inf))
-            if left <= PREDICTED_FRACTION * tol:
-                break
-        if it >= 2 and step > 0.5 * history[-2][2]:
-            if step <= ROUND_OFF_STEP:
-                floor_hits += 1
-                if floor_hits >= 2:
-                    noise = abs(d[-1])
-                    break
-                continue
-            if it >= 3 and step > history[-2][2] > history[-3][2]:
-                raise ConvergenceError(f"fold system: Newton diverges near p = {p:.10g} "
-                                       f"(updates {[f'{h[2]:.1e}' for h in history]})")
-        floor_hits = 0
+        if verdict == "diverging":
+            raise ConvergenceError(f"fold system: Newton diverges near p = {p:.10g} "
+                                   f"(updates {[f'{h[2]:.1e}' for h in history]})")
     else:
         raise ConvergenceError(f"fold system: no convergence in {maxiter} Newton steps near "
                                f"p = {p:.10g} (updates {[f'{h[2]:.1e}' for h in history]})")
-    if not math.isfinite(step):
-        raise ConvergenceError(f"fold system: non-finite update near p = {p:.10g}")
+    left = rule.left
     m, _ = system.monitor(U)
     return Fold(p=float(p), monitor=float(m), U=U, system=system, index=index,
                 stats=dict(solves=1, newton_iterations=it, curvature=float(pivot),
@@ -182,8 +164,7 @@ def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOpti
     finer fold is returned. ConvergenceError if the round-off exceeds ``fold_tol`` or after
     ``options.max_refinements`` rungs."""
     t0 = time.perf_counter() if t0 is None else t0
-    first = system.at_tolerance(options.fold_tol) if hasattr(system, "at_tolerance") \
-        else system
+    first = first_rung(system, options.fold_tol, exact=True)
     current = solve_fold(first, system.transfer(U, p, first), p, index=index)
 
     def advance(finer, current):
@@ -206,13 +187,14 @@ def fold_at_monitor(system, U, p, theta, monitor, at_theta, *, tol: float = FOLD
     ConvergenceError if the iteration fails."""
     U = np.array(U, dtype=float)
     p, theta = float(p), float(theta)
-    history = []
+    rule = Stopping(tol, floor=False)
+    history = rule.steps
     for it in range(1, maxiter + 1):
         R, J, Rp, m, gm, factor, v, sigma, sU, sp, sth, Rth, mth = fold_system_terms(
             system, U, p, theta=True)
         n = U.size
         A = np.zeros((n + 2, n + 2))
-        A[:n, :n] = _dense(J)
+        A[:n, :n] = J.toarray() if is_sparse(J) else J
         A[:n, n], A[:n, n + 1] = Rp, Rth
         A[n, :n], A[n, n], A[n, n + 1] = sU, sp, sth
         A[n + 1, :n], A[n + 1, n + 1] = gm, mth
@@ -225,17 +207,12 @@ def fold_at_monitor(system, U, p, theta, monitor, at_theta, *, tol: float = FOLD
         p -= d[n]
         theta -= d[n + 1]
         system = at_theta(theta)
-        step = max(_step_size(d[:n + 1], U, p), abs(d[n + 1]) / (1.0 + abs(theta)))
-        history.append(step)
-        if not math.isfinite(step):
-            break
-        if step <= tol:
+        verdict = rule.after(max(relative_step(d[:n + 1], U, p),
+                                 abs(d[n + 1]) / (1.0 + abs(theta))))
+        if verdict == "converged":
             return system, U, p, theta, it
-        if it >= 3 and history[-1] > history[-2] > history[-3]:
+        if verdict == "diverging":
             break
     raise ConvergenceError(f"fold curve: no convergence at monitor {monitor:g} (updates "
                            f"{[f'{h:.1e}' for h in history]})")
 
-
-def _dense(J):
-    return J.toarray() if hasattr(J, "toarray") else J

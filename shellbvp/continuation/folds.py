@@ -14,10 +14,10 @@ import math
 import time
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import ConvergenceError
 from ..results import Fold
+from ..methods.base import Discretisation, SecondOrder, ShellProblem, Transplantable, first_rung
 from .newton import bordered_lu, newton, tangent
 from .options import ContinuationOptions
 
@@ -41,8 +41,8 @@ SLOPE_TRUST = 1.0
 def _scatter(system, p) -> float:
     """The round-off scatter of a fold parameter p of ``system``'s problem
     (``bvp.round_off``), 0 where the problem does not state it."""
-    bvp = getattr(system, "bvp", None)
-    return bvp.round_off(p) if hasattr(bvp, "round_off") else 0.0
+    bvp = system.bvp if isinstance(system, Discretisation) else None
+    return bvp.round_off(p) if isinstance(bvp, ShellProblem) else 0.0
 
 
 class _Slope:
@@ -102,18 +102,18 @@ def locate_fold(system, a, b, *, tol=FOLD_NEWTON_TOL, monitor_tol=FOLD_MONITOR_T
     not a coordinate of the branch there) or a Newton solve fails.
     """
     t0 = time.perf_counter()
-    if a.tangent[0] == 0 or b.tangent[0] == 0 or not (
-            a.tangent[1] / a.tangent[0] * b.tangent[1] / b.tangent[0] < 0):
+    if a.tangent[0] == 0 or b.tangent[0] == 0 or not a.slope * b.slope < 0:
         raise ConvergenceError(f"fold location: dp/dm does not change sign between monitor "
                                f"{a.monitor:.6g} and {b.monitor:.6g} (tangents {a.tangent}, "
                                f"{b.tangent}): the monitor is not a coordinate of the branch")
-    slope = _Slope(system, [(q.monitor, q.U, q.p, q.dU / q.tangent[0],
-                             q.tangent[1] / q.tangent[0]) for q in (a, b)], tol)
+    slope = _Slope(system, [(q.monitor, q.U, q.p, q.dU / q.tangent[0], q.slope)
+                            for q in (a, b)], tol)
     lo, hi = sorted((a.monitor, b.monitor))
+    from scipy.optimize import brentq
+
     m_star = brentq(slope, lo, hi, xtol=monitor_tol, rtol=4 * np.finfo(float).eps)
     p, U = slope.state(m_star)
-    return Fold(p=p, monitor=m_star, U=U, system=system, bracket=(lo, hi),
-                stats=slope.stats(t0))
+    return Fold(p=p, monitor=m_star, U=U, system=system, stats=slope.stats(t0))
 
 
 def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
@@ -186,7 +186,6 @@ def polish_fold(system, U, p, monitor, *, curvature=None, step=POLISH_STEP,
                                f"(last dp/dm {g0:.2e}, d2p/dm2 {c:.3g})")
     p, U = slope.state(m0)
     return Fold(p=p, monitor=m0, U=U, system=system,
-                bracket=(monitor - window, monitor + window),
                 stats=dict(slope.stats(t0, res.iterations), curvature=c,
                            location=0.5 * g0 * g0 / abs(c)))
 
@@ -199,7 +198,7 @@ def bracket_estimate(a, b) -> tuple[float, float]:
     from scipy.interpolate import CubicHermiteSpline
 
     (ma, pa, ga), (mb, pb, gb) = sorted(
-        (q.monitor, q.p, q.tangent[1] / q.tangent[0]) for q in (a, b))
+        (q.monitor, q.p, q.slope) for q in (a, b))
     cubic = CubicHermiteSpline([ma, mb], [pa, pb], [ga, gb])
     roots = cubic.derivative().roots(extrapolate=False)
     roots = roots[np.isfinite(roots)]
@@ -223,11 +222,8 @@ def refine_fold(system, a, b, *, options: ContinuationOptions = ContinuationOpti
     def seeded():
         m0, c0 = bracket_estimate(a, b)
         q = min((a, b), key=lambda q: abs(q.monitor - m0))
-        dm = m0 - q.monitor
-        U0 = q.U + dm * q.dU / q.tangent[0]
-        p0 = q.p + dm * q.tangent[1] / q.tangent[0]
-        return ladder(system, U0, p0, m0,
-                      c0 if c0 * a.tangent[1] / a.tangent[0] < 0 else None,
+        U0, p0 = q.predicted(m0)
+        return ladder(system, U0, p0, m0, c0 if c0 * a.slope < 0 else None,
                       options=options, index=index, t0=t0)
 
     def bracketed():
@@ -276,7 +272,7 @@ def _in_end_state_coordinate(system, a, b, *, options, index, t0) -> Fold:
     be carried to another BVP (``on``, ``split``: the Chebyshev method)."""
     from dataclasses import replace
 
-    if not (hasattr(system, "on") and hasattr(system, "split")):
+    if not isinstance(system, Transplantable):
         raise ConvergenceError("fold location in an end-state coordinate needs the spectral "
                                "method")
 
@@ -322,8 +318,7 @@ def ladder(system, U, p, monitor, curvature=None, *,
     round-off exceeds ``fold_tol``, or after ``options.max_refinements`` rungs.
     """
     t0 = time.perf_counter() if t0 is None else t0
-    first = system.for_tolerance(options.fold_tol) if hasattr(system, "for_tolerance") \
-        else system
+    first = first_rung(system, options.fold_tol)
     # the monitor of the fold to fold_tol / 10 (at least FOLD_MONITOR_TOL): p is then good
     # to ~c (fold_tol / 10)^2, and w to the accuracy asked of p
     m_tol = max(FOLD_MONITOR_TOL, options.fold_tol / 10)
@@ -410,7 +405,7 @@ def fold_sensitivity(fold) -> dict:
     Equivalently dp*/dx = -psi . dR/dx / psi . dR/dp with psi the left null vector of dR/dU.
     """
     system = fold.system
-    if not hasattr(system, "parameter_derivatives"):
+    if not isinstance(system, SecondOrder):
         raise ValueError(f"fold derivatives need a discretisation that offers them (the "
                          f"spectral method), got {system.describe()}")
     R, J, Rp = system.evaluate(fold.U, fold.p)

@@ -13,16 +13,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
 
 import numpy as np
-import scipy.sparse as sps
-import scipy.sparse.linalg as spla
-from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
 
+from ..convergence import CONTRACTION_BOUND
 from ..errors import ConvergenceError
 
 __all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "one_update_error",
-           "FAIL_CONTRACTION", "CONTRACTION_BOUND", "PREDICTED_FRACTION"]
+           "jacobian_error", "Stopping", "relative_step", "is_sparse", "FAIL_CONTRACTION",
+           "CONTRACTION_BOUND", "PREDICTED_FRACTION"]
 
 #: a corrector whose update is not at least this factor smaller than the previous one is
 #: outside its basin: fail fast, so the continuation retries with a shorter step
@@ -32,13 +32,24 @@ FAIL_CONTRACTION = 0.5
 #: stall at updates of ~1e-9 (the inner constitutive root is itself accepted at its floor,
 #: 1e-9). Such an iterate is converged to about that update (``NewtonResult.p_noise``).
 ROUND_OFF_STEP = 1e-8
-#: bound on the quadratic-convergence constant C (next update ~ C update^2) measured from
-#: the last two updates: above it the iteration is not in that regime (a stall, e.g. on an
-#: inexact Jacobian), and no update is predicted from it
-CONTRACTION_BOUND = 100.0
 #: a predicted next update counts as converged at this fraction of the tolerance (the
 #: prediction C step^2 is good to a factor of a few, not to digits)
 PREDICTED_FRACTION = 0.01
+
+
+@runtime_checkable
+class StatesJacobianError(Protocol):
+    """A discrete system that states the relative error of its Jacobian dR/dU (the nodal
+    systems: that of their BVP's derivatives, round-off for a shell problem)."""
+
+    jacobian_error: float
+
+
+def jacobian_error(system) -> float:
+    """The relative error of ``system``'s Jacobian where it states one, inf where it does not
+    (e.g. a hand-written system): one Newton update then never counts as converged alone."""
+    return float(system.jacobian_error) if isinstance(system, StatesJacobianError) \
+        else math.inf
 
 
 def one_update_error(step: float, jacobian_error: float) -> float:
@@ -51,11 +62,93 @@ def one_update_error(step: float, jacobian_error: float) -> float:
     return CONTRACTION_BOUND * (step * step + jacobian_error * step)
 
 
+class Stopping:
+    """The stopping rules of every Newton iteration in the package (branch points, folds,
+    fold curves), applied to the sequence of relative updates one at a time
+    (:meth:`after`), which returns what the iteration should do:
+
+    * ``"converged"``: the update is below ``tol`` after at least ``min_iterations``
+      updates; or, with ``predict``, the next update predicted by quadratic convergence,
+      C step^2 with C from the last two updates (while C <= ``CONTRACTION_BOUND``), is below
+      ``predicted_fraction * tol`` (the evaluation that would only confirm it is saved); or,
+      with ``one_update``, the first update from a start next to the solution leaves at most
+      ``PREDICTED_FRACTION * tol`` (:func:`one_update_error` with ``jacobian_error``);
+    * ``"floor"``: with ``floor``, two updates in a row that do not contract (by
+      ``FAIL_CONTRACTION``) below ``ROUND_OFF_STEP``: the round-off floor of the discrete
+      equations, converged to about that update;
+    * ``"stalled"``: with ``fail_fast``, an update that does not contract: outside the
+      basin (the continuation retries with a shorter step);
+    * ``"diverging"``: the updates grew twice in a row (the first update, which from a
+      carried start may be tiny, not counted);
+    * ``"continue"`` otherwise.
+
+    ``left`` is the error the last update leaves by that prediction (inf outside the
+    quadratic regime): with a tolerance met, the location error of the result.
+    """
+
+    def __init__(self, tol: float, *, min_iterations: int = 1, predict: bool = False,
+                 predicted_fraction: float = 1.0, one_update: bool = False,
+                 jacobian_error: float = math.inf, fail_fast: bool = False,
+                 floor: bool = True):
+        self.tol, self.min_iterations = tol, min_iterations
+        self.predict, self.predicted_fraction = predict, predicted_fraction
+        self.one_update, self.jacobian_error = one_update, jacobian_error
+        self.fail_fast, self.floor = fail_fast, floor
+        self.steps: list[float] = []
+        self.left = math.inf
+        self._floor_hits = 0
+
+    def after(self, step: float) -> str:
+        steps = self.steps
+        steps.append(step)
+        it = len(steps)
+        if not math.isfinite(step):
+            return "diverging"
+        C = step / steps[-2] ** 2 if it >= 2 and steps[-2] > 0 else math.inf
+        self.left = C * step**2 if C <= CONTRACTION_BOUND else math.inf
+        predicted = self.predict and it >= 2 and self.left <= self.predicted_fraction * self.tol
+        if it == 1 and self.one_update:
+            self.left = one_update_error(step, self.jacobian_error)
+            if self.left <= PREDICTED_FRACTION * self.tol:
+                return "converged"
+        if (step <= self.tol or predicted) and it >= self.min_iterations:
+            return "converged"
+        stalled = it >= 2 and step > FAIL_CONTRACTION * steps[-2]
+        if self.floor and stalled and step <= ROUND_OFF_STEP:
+            # a tiny update that does not contract once can be a start's inexact step (the
+            # next one undoes it, the one after converges), so only two stalls in a row are
+            # the round-off floor
+            self._floor_hits += 1
+            return "floor" if self._floor_hits >= 2 else "continue"
+        self._floor_hits = 0
+        if self.fail_fast and stalled:
+            return "stalled"
+        if it >= 4 and steps[-1] > steps[-2] > steps[-3]:
+            return "diverging"
+        return "continue"
+
+
+def relative_step(d, U, p) -> float:
+    """The size of a bordered Newton update d = (dU, dp) relative to the unknowns (U, p)."""
+    return max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
+               abs(d[-1]) / (1.0 + abs(p)))
+
+
+def is_sparse(J) -> bool:
+    """Whether a Jacobian is scipy.sparse (the dense ones are numpy arrays): decided without
+    importing scipy.sparse, which ``import shellbvp`` does not load."""
+    return not isinstance(J, np.ndarray)
+
+
 class _Factor:
     """LU of the bordered matrix, dense or sparse."""
 
     def __init__(self, A):
-        if sps.issparse(A):
+        from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
+
+        if is_sparse(A):
+            import scipy.sparse.linalg as spla
+
             try:
                 self._lu = spla.splu(A.tocsc())
             except RuntimeError as exc:          # "Factor is exactly singular"
@@ -77,7 +170,9 @@ class _Factor:
 
 
 def _bordered(J, Rp, last_row, beta):
-    if sps.issparse(J):
+    if is_sparse(J):
+        import scipy.sparse as sps
+
         return sps.bmat([[J, sps.csc_matrix(Rp[:, None])],
                          [sps.csc_matrix(last_row[None, :]), sps.csc_matrix([[beta]])]],
                         format="csc")
@@ -152,7 +247,9 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     history = []
     fac = gm = None
     m = math.nan
-    floor_hits = 0
+    rule = Stopping(tol, min_iterations=min_iterations, predict=predict,
+                    one_update=one_update, jacobian_error=jacobian_error(system),
+                    fail_fast=fail_fast)
     for it in range(1, maxiter + 1):
         try:
             R, J, Rp = system.evaluate(U, p)
@@ -163,7 +260,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         last = alpha * gm + (0.0 if row is None else row)
         r = np.append(R, alpha * m + beta * p - c + (0.0 if row is None else float(row @ U)))
         if not (np.all(np.isfinite(r)) and np.all(np.isfinite(Rp))
-                and np.all(np.isfinite(J.data if sps.issparse(J) else J))):
+                and np.all(np.isfinite(J.data if is_sparse(J) else J))):
             history.append(("non-finite", it))
             return NewtonResult(U, p, m, False, it, history, fac, gm)
         try:
@@ -174,35 +271,15 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         d = fac.solve(r)
         U -= d[:-1]
         p -= d[-1]
-        step = max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
-                   abs(d[-1]) / (1.0 + abs(p)))
+        step = relative_step(d, U, p)
         history.append((float(np.max(np.abs(r))), step))
-        if predict and it >= 2 and history[-2][1] > 0:
-            C = step / history[-2][1] ** 2         # quadratic convergence: next ~ C step^2
-            converged = C <= CONTRACTION_BOUND and C * step**2 <= tol
-        else:
-            converged = False
-        # one update from a start next to the solution, where its error bound allows
-        first_suffices = it == 1 and one_update and one_update_error(
-            step, getattr(system, "jacobian_error", math.inf)) <= PREDICTED_FRACTION * tol
-        if first_suffices or ((step <= tol or converged) and it >= min_iterations):
+        verdict = rule.after(step)
+        if verdict in ("converged", "floor"):
             m, gm = system.monitor(U)
-            return NewtonResult(U, p, m, True, it, history, fac, gm)
-        stalled = it >= 2 and step > FAIL_CONTRACTION * history[-2][1]
-        if stalled and step <= ROUND_OFF_STEP:
-            # a tiny update that does not contract once can be a start's inexact step (the
-            # next one undoes it, the one after converges), so only two stalls in a row are
-            # the round-off floor
-            floor_hits += 1
-            if floor_hits >= 2:
-                m, gm = system.monitor(U)
-                return NewtonResult(U, p, m, True, it, history, fac, gm, p_noise=abs(d[-1]))
-            continue
-        floor_hits = 0
-        if fail_fast and stalled:
+            return NewtonResult(U, p, m, True, it, history, fac, gm,
+                                p_noise=abs(d[-1]) if verdict == "floor" else 0.0)
+        if verdict in ("stalled", "diverging"):
             break
-        if it >= 4 and history[-1][1] > history[-2][1] > history[-3][1]:
-            break   # the updates grow: diverging
     return NewtonResult(U, p, m, False, len(history), history, fac, gm)
 
 

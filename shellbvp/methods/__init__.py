@@ -12,25 +12,34 @@ defaults of each (used by the command line).
 
 from __future__ import annotations
 
-from .base import DiscreteSystem, Method, NodalSystem
-from .chebyshev import Chebyshev
+from .base import (DirectSolver, DiscreteSystem, Discretisation, InnerRoots, Method,
+                   NodalBVP, NodalSystem, SecondOrder, ShellProblem, Transplantable)
+from .chebyshev import Chebyshev, bracketing_nodes, default_nodes
 from .collocation import Collocation
 from .shooting import Shooting
 
-__all__ = ["Chebyshev", "Shooting", "Collocation", "METHODS", "as_method", "DiscreteSystem",
-           "Method", "NodalSystem"]
+__all__ = ["Chebyshev", "Shooting", "Collocation", "METHODS", "as_method", "default_nodes",
+           "bracketing_nodes", "DiscreteSystem", "Discretisation", "Transplantable",
+           "SecondOrder", "InnerRoots", "Method", "DirectSolver", "NodalBVP", "ShellProblem",
+           "NodalSystem"]
 
 METHODS = {"spectral": Chebyshev, "shooting": Shooting, "collocation": Collocation}
 
 
-def as_method(method) -> Method:
-    """A method object from a method object or one of the names in ``METHODS``."""
+def as_method(method: "Method | str") -> Method:
+    """A method object from a method object or one of the names in ``METHODS``
+    (``"spectral"``, ``"shooting"``, ``"collocation"``: each with its defaults).
+
+    Raises:
+        ValueError: an unknown name, or an object that is not a :class:`Method` (a frozen
+            dataclass with ``name`` and ``discretise``).
+    """
     if isinstance(method, str):
         if method not in METHODS:
             raise ValueError(f"method must be one of {tuple(METHODS)} or a method object, "
                              f"got {method!r}")
         return METHODS[method]()
-    if not hasattr(method, "discretise"):
+    if not isinstance(method, Method):
         raise ValueError(f"method must be one of {tuple(METHODS)} or a method object "
                          f"(Chebyshev, Shooting, Collocation), got {type(method).__name__}")
     return method

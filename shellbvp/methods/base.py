@@ -11,19 +11,20 @@ another system of the same method.
 from __future__ import annotations
 
 import math
-from typing import Callable, Protocol
+from typing import Callable, Protocol, runtime_checkable
 
 import numpy as np
-import scipy.sparse as sps
 
-__all__ = ["DiscreteSystem", "Method", "NodalSystem"]
+__all__ = ["DiscreteSystem", "Discretisation", "Transplantable", "SecondOrder", "InnerRoots",
+           "Method", "DirectSolver", "NodalBVP", "ShellProblem", "NodalSystem", "first_rung"]
 
 
+@runtime_checkable
 class DiscreteSystem(Protocol):
-    """R(U, p) = 0: ``size`` unknowns U, one scalar parameter p."""
+    """R(U, p) = 0: ``size`` unknowns U, one scalar parameter p, and the observable: all that
+    bordered Newton and pseudo-arclength continuation need (:mod:`shellbvp.continuation`)."""
 
     size: int
-    bvp: object
 
     def evaluate(self, U, p):
         """(R (size,), dR/dU (size, size), dense or scipy.sparse, dR/dp (size,))."""
@@ -31,32 +32,143 @@ class DiscreteSystem(Protocol):
     def monitor(self, U):
         """(m, dm/dU): the BVP's observable (w / H) and its gradient."""
 
+
+@runtime_checkable
+class Discretisation(DiscreteSystem, Protocol):
+    """A discrete system of a BVP, as every method's ``discretise`` returns: it can be
+    started from a profile, interpolated, refined (the ladder that gives every fold its
+    error estimate) and carried to another resolution."""
+
+    bvp: object
+
     def from_profile(self, profile: Callable) -> np.ndarray:
         """U from a callable s -> (6, n) of the BVP's unknowns."""
 
     def dense(self, U, p) -> Callable:
         """t -> stacked (6 P, n) interpolant of the solution in the piece coordinate."""
 
-    def refined(self) -> "DiscreteSystem":
-        """The next, finer system of the same method (for error estimates)."""
+    def refined(self) -> "Discretisation":
+        """The next, finer system of the same method (for error estimates); ValueError where
+        the method cannot refine further."""
 
-    def transfer(self, U, p, other: "DiscreteSystem") -> np.ndarray:
+    def for_tolerance(self, tol: float) -> "Discretisation":
+        """The first rung of the fold ladder for a fold tolerance ``tol`` (this system, or a
+        finer one of the same method)."""
+
+    def transfer(self, U, p, other: "Discretisation") -> np.ndarray:
         """U carried onto ``other`` (same method and BVP, another resolution)."""
 
     def nodes(self, U, p):
         """(t, stacked (6 P, len(t)) values): the solution at the method's own points."""
 
     def describe(self) -> dict:
-        """The resolution, for statistics (e.g. ``{"nodes": 32}``)."""
+        """The resolution, for statistics (e.g. ``{"method": "spectral", "nodes": 32}``)."""
 
 
+@runtime_checkable
+class Transplantable(Protocol):
+    """A nodal discretisation that can be laid on another BVP with the same pieces (the scene
+    at a nearby shallowness, or the same BVP seen in another monitor), the unknowns at the
+    same piece coordinates: fold curves, fold location in an end-state coordinate."""
+
+    def on(self, bvp) -> "Transplantable":
+        """The same discretisation of ``bvp``."""
+
+    def split(self, U) -> np.ndarray:
+        """U as (pieces, components, nodes)."""
+
+
+@runtime_checkable
+class SecondOrder(Transplantable, Protocol):
+    """A discretisation with exact second derivatives and derivatives in the scene's data:
+    what the minimally augmented fold system, the fold curve in theta and the fold's
+    gradient need (:mod:`shellbvp.continuation.fold_curve`)."""
+
+    def curvature_terms(self, U, p, w, v, dp) -> tuple:
+        """The gradient in (U, p, theta) of the second directional derivative of
+        w . (R, m) along (v, dp)."""
+
+    def parameter_derivatives(self, U, p, names=("theta", "material", "h")) -> dict:
+        """{x: (dR/dx, dm/dx)} for the scene's data x."""
+
+    def at_tolerance(self, tol: float) -> "SecondOrder":
+        """The first rung of the fold ladder for ``tol``, finer or coarser than this one."""
+
+
+@runtime_checkable
+class InnerRoots(Protocol):
+    """A nodal discretisation that can report the inner constitutive roots (lam1, k1) at its
+    nodes (starts for evaluating the state elsewhere)."""
+
+    def inner_roots(self, U, p) -> np.ndarray:
+        """(P, nodes, 2)."""
+
+
+@runtime_checkable
 class Method(Protocol):
-    """A discretisation with named options."""
+    """A discretisation with named options (a small frozen dataclass)."""
 
     name: str
 
-    def discretise(self, bvp) -> DiscreteSystem:
+    def discretise(self, bvp) -> Discretisation:
         """The discrete system of ``bvp`` at this method's resolution."""
+
+
+@runtime_checkable
+class DirectSolver(Protocol):
+    """A method that solves one equilibrium with its own adaptive solver (solve_bvp) rather
+    than by Newton on its fixed discretisation."""
+
+    def solve(self, bvp, p, profile) -> tuple:
+        """(system on the solver's final mesh, U, stats); ConvergenceError on failure."""
+
+
+@runtime_checkable
+class NodalBVP(Protocol):
+    """What a nodal discretisation needs of a BVP: ``n`` components on ``P`` pieces
+    [a_i, b_i], the right-hand side at nodes with its exact Jacobians, the boundary
+    conditions and the observable. A small problem of one's own (the tests' Bratu problem)
+    provides just this."""
+
+    n: int
+    P: int
+    lengths: np.ndarray
+
+    def s_of(self, i: int, t): ...
+
+    def rhs(self, s, Y, p, hint=None): ...
+
+    def boundary(self, ya, yb, p): ...
+
+    def monitor(self, ya, yb): ...
+
+
+@runtime_checkable
+class ShellProblem(NodalBVP, Protocol):
+    """A nodal BVP that also evaluates rhs, boundary conditions and monitor in one compiled
+    call, states the error of its derivatives and the round-off of its folds, and carries
+    its inner roots to another discretisation (:class:`shellbvp.bvp.ShellBVP`)."""
+
+    jacobian_error: float
+
+    def collocate(self, s, Y, p, hint=None): ...
+
+    def round_off(self, p: float) -> float: ...
+
+    def carried_hint(self, hint, Y, Y_new, p, resample): ...
+
+
+def first_rung(system, tol: float, *, exact: bool = False):
+    """The first rung of the fold ladder of ``system`` for a fold tolerance ``tol``:
+    ``system.at_tolerance(tol)`` with ``exact`` (a :class:`SecondOrder` system, finer or
+    coarser), else ``system.for_tolerance(tol)`` where the system is a
+    :class:`Discretisation` (this one or finer), else the system itself (a hand-written
+    system in the tests has one resolution)."""
+    if exact and isinstance(system, SecondOrder):
+        return system.at_tolerance(tol)
+    if isinstance(system, Discretisation):
+        return system.for_tolerance(tol)
+    return system
 
 
 class NodalSystem:
@@ -77,13 +189,18 @@ class NodalSystem:
         self.evaluations = 0
         self._hint = None       # warm start of the BVP's inner solve (cost only)
         self._monitor = None    # (U, monitor at U) of the last evaluation
+        if not isinstance(bvp, NodalBVP):
+            raise ValueError(f"a nodal discretisation needs a BVP with n, P, lengths, s_of, rhs, "
+                             f"boundary and monitor, got {type(bvp).__name__}")
+        #: the BVP's capabilities beyond the nodal ones, decided once
+        self._shell = isinstance(bvp, ShellProblem)
 
     @property
     def jacobian_error(self) -> float:
         """The relative error of the Jacobian dR/dU: the BVP's ``jacobian_error`` (that of
         its derivatives, which the discretisation differentiates exactly), inf where the
         BVP does not state it."""
-        return getattr(self.bvp, "jacobian_error", math.inf)
+        return self.bvp.jacobian_error if self._shell else math.inf
 
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
@@ -122,9 +239,8 @@ class NodalSystem:
         """The BVP's nodal rhs, boundary conditions and monitor at Y (one compiled call when
         the BVP offers it), with the inner Newton warm-started from the last evaluation."""
         bvp = self.bvp
-        if hasattr(bvp, "collocate"):
-            out = bvp.collocate(self.s, Y, p, self._hint)
-            nodal, bc, mon = out
+        if self._shell:
+            nodal, bc, mon = bvp.collocate(self.s, Y, p, self._hint)
         else:
             nodal = bvp.rhs(self.s, Y, p, self._hint)
             bc = bvp.boundary(Y[0, :, 0], Y[-1, :, -1], p)
@@ -174,6 +290,8 @@ class NodalSystem:
                 else:
                     J[r0:r0 + B.shape[0], c0:c0 + B.shape[1]] = B
         else:
+            import scipy.sparse as sps
+
             rows, cols, vals = [], [], []
             for r0, c0, B in parts:
                 if isinstance(c0, slice):

@@ -7,7 +7,7 @@ by rectangular collocation (Driscoll & Hale, IMA J. Numer. Anal. 36, 2016): the 
 D y - (b - a) f is resampled by barycentric interpolation onto the N Chebyshev points of the
 first kind, which leaves exactly one row per component and piece for the boundary and
 interface conditions. For an analytic solution the error falls geometrically with N; the
-resolution is checked by the decay of the Chebyshev coefficients (:meth:`ChebyshevSystem.tail`).
+resolution is checked by the refinement ladder (a fold's change with the next degrees).
 The Jacobian is exact, assembled from the per-node blocks df/dy of the BVP.
 """
 
@@ -266,10 +266,9 @@ class ChebyshevSystem(NodalSystem):
         evaluation there starts the inner Newton next to its roots, as the next one on this
         degree would (fewer inner steps; the result is the same from any start)."""
         V = super().transfer(U, p, other)
-        carry = getattr(self.bvp, "carried_hint", None)
-        if carry is not None and other.bvp is self.bvp and other is not self \
+        if self._shell and other.bvp is self.bvp and other is not self \
                 and self._hint is not None:
-            other._hint = carry(self._hint, self.split(U), other.split(V), p,
+            other._hint = self.bvp.carried_hint(self._hint, self.split(U), other.split(V), p,
                                 lambda a: _interpolant(a)(other.t))
         return V
 
@@ -280,9 +279,10 @@ class ChebyshevSystem(NodalSystem):
 
     def at_tolerance(self, tol: float) -> "ChebyshevSystem":
         """The first rung of the fold ladder for ``tol`` (:func:`fold_nodes`), finer or
-        coarser than this system (this one if its BVP is not a shell scene's)."""
-        scene = getattr(self.bvp, "scene", None)
-        return self if scene is None else ChebyshevSystem(self.bvp, fold_nodes(scene, tol))
+        coarser than this system (this one if its BVP is not a shell problem)."""
+        if not self._shell:
+            return self
+        return ChebyshevSystem(self.bvp, fold_nodes(self.bvp.scene, tol))
 
     def for_tolerance(self, tol: float) -> "ChebyshevSystem":
         """:meth:`at_tolerance`, or this system if it is finer."""
@@ -294,13 +294,6 @@ class ChebyshevSystem(NodalSystem):
         if N > MAX_NODES:
             raise ValueError(f"cannot refine beyond {MAX_NODES} Chebyshev nodes")
         return ChebyshevSystem(self.bvp, N)
-
-    def tail(self, U) -> float:
-        """Resolution: max over pieces and components of the last three Chebyshev
-        coefficients, relative to the component's largest (~ the interpolation error)."""
-        c = np.abs(coefficients(self.split(U)))
-        scale = np.maximum(c.max(axis=-1), 1e-300)
-        return float(np.max(c[..., -3:].max(axis=-1) / scale))
 
     def describe(self) -> dict:
         return {"method": "spectral", "nodes": self.N}

@@ -18,7 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sps
 
 from ..errors import ConvergenceError
 from .base import NodalSystem
@@ -28,6 +27,8 @@ __all__ = ["Collocation", "CollocationSystem"]
 #: nodes added at the ends by the clustered initial mesh, relative to a uniform one:
 #: the pole region and the edge boundary layer need them most
 _CLUSTER = 0.5
+#: solve_bvp's tolerance where ``Collocation.tol`` is not given
+SOLVE_TOL = 1e-8
 
 
 def clustered_mesh(nodes: int) -> np.ndarray:
@@ -38,23 +39,32 @@ def clustered_mesh(nodes: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Collocation:
-    """solve_bvp's collocation: ``tol`` is solve_bvp's relative residual tolerance (solve);
-    ``nodes`` the size of the initial (clustered) mesh, which is also the continuation mesh;
-    ``max_nodes`` bounds solve_bvp's adaptive mesh."""
+    """solve_bvp's collocation.
 
-    tol: float = 1e-8
+    Attributes:
+        tol: solve_bvp's relative residual tolerance, for one equilibrium
+            (:func:`shellbvp.solve`; None: ``SOLVE_TOL``). Continuation and folds solve the
+            same equations on a fixed mesh and refine folds to their own tolerance
+            (``ContinuationOptions.fold_tol``, a scene's ``tol``): there a ``tol`` given here
+            would do nothing, and :func:`shellbvp.follow` refuses it.
+        nodes: the size of the initial (clustered) mesh, which is also the continuation mesh.
+        max_nodes: the largest mesh: it bounds solve_bvp's adaptive mesh and the fold
+            ladder's halvings (a fold that needs more raises ConvergenceError).
+    """
+
+    tol: float | None = None
     nodes: int = 81
     max_nodes: int = 20000
     name = "collocation"
 
     def __post_init__(self):
-        if not (isinstance(self.tol, float) and 1e-14 < self.tol < 1):
-            raise ValueError(f"tol must be a float in (1e-14, 1), got {self.tol!r}")
+        if self.tol is not None and not (isinstance(self.tol, float) and 1e-14 < self.tol < 1):
+            raise ValueError(f"tol must be None or a float in (1e-14, 1), got {self.tol!r}")
         if not (isinstance(self.nodes, (int, np.integer)) and 8 <= self.nodes <= self.max_nodes):
             raise ValueError(f"nodes must be an integer in [8, max_nodes], got {self.nodes!r}")
 
     def discretise(self, bvp) -> "CollocationSystem":
-        return CollocationSystem(bvp, clustered_mesh(self.nodes))
+        return CollocationSystem(bvp, clustered_mesh(self.nodes), self.max_nodes)
 
     def solve(self, bvp, p, profile):
         """solve_bvp on the stacked problem from ``profile`` (s -> (6, n)); returns
@@ -101,8 +111,9 @@ class Collocation:
         Y0 = np.concatenate([np.asarray(profile(bvp.s_of(i, t0)), dtype=float)
                              for i in range(P)])
         try:
-            res = solve_bvp(fun, bc, t0, Y0, fun_jac=fun_jac, bc_jac=bc_jac, tol=self.tol,
-                            bc_tol=self.tol, max_nodes=self.max_nodes)
+            tol = SOLVE_TOL if self.tol is None else self.tol
+            res = solve_bvp(fun, bc, t0, Y0, fun_jac=fun_jac, bc_jac=bc_jac, tol=tol,
+                            bc_tol=tol, max_nodes=self.max_nodes)
         except ConvergenceError as exc:
             raise ConvergenceError(f"solve_bvp at {bvp.scene.parameter} = {p:g}: {exc}") \
                 from None
@@ -111,7 +122,7 @@ class Collocation:
         if not res.success:
             raise ConvergenceError(f"solve_bvp did not converge at {bvp.scene.parameter} = "
                                    f"{p:g}: {res.message} ({stats}); try a closer guess")
-        system = CollocationSystem(bvp, res.x)
+        system = CollocationSystem(bvp, res.x, self.max_nodes)
         return system, res.y.ravel(), stats
 
 
@@ -122,8 +133,9 @@ class CollocationSystem(NodalSystem):
 
     dense_jacobian = False
 
-    def __init__(self, bvp, t):
+    def __init__(self, bvp, t, max_nodes: int = 20000):
         super().__init__(bvp, t)
+        self.max_nodes = max_nodes
         self.hstep = np.diff(self.t)
         self.s_mid = np.stack([bvp.s_of(i, self.t[:-1] + self.hstep / 2)
                                for i in range(self.P)])
@@ -137,6 +149,8 @@ class CollocationSystem(NodalSystem):
         self._cols = np.concatenate([(b * (M + 1) + j).ravel(), (b * (M + 1) + j + 1).ravel()])
 
     def interior(self, Y, p, nod):
+        import scipy.sparse as sps
+
         n, M, L = self.n, self.M, self.bvp.lengths
         h = self.hstep
         F = L[:, None, None] * nod.f                                   # (P, n, M + 1)
@@ -176,7 +190,14 @@ class CollocationSystem(NodalSystem):
 
     def refined(self) -> "CollocationSystem":
         t = np.sort(np.concatenate([self.t, self.t[:-1] + self.hstep / 2]))
-        return CollocationSystem(self.bvp, t)
+        if t.size > self.max_nodes:
+            raise ValueError(f"cannot refine beyond max_nodes = {self.max_nodes} "
+                             f"(the next mesh has {t.size} nodes)")
+        return CollocationSystem(self.bvp, t, self.max_nodes)
+
+    def for_tolerance(self, tol: float) -> "CollocationSystem":
+        """This mesh: the ladder halves it from here until a fold changes by at most tol."""
+        return self
 
     def describe(self) -> dict:
         return {"method": "collocation", "nodes": int(self.t.size)}

@@ -32,6 +32,10 @@ SAVE_PER_SEGMENT = 17
 SAVE_POINTS = 256
 #: the refinement ladder divides rtol by this per rung
 RTOL_STEP = 10.0
+#: ODE tolerance of equilibria and branches where ``Shooting.rtol`` is not given
+SOLVE_RTOL = 1e-10
+#: the ODE tolerances a fold ladder may use (below 1e-14 Tsit5 meets round-off)
+RTOL_RANGE = (1e-14, 1e-4)
 #: an ODE solve with more steps than this on one segment is a failure, not a result
 MAX_ODE_STEPS = 100_000
 
@@ -55,15 +59,23 @@ def default_segments(bvp) -> int:
 
 @dataclass(frozen=True)
 class Shooting:
-    """Multiple shooting with ``segments`` segments in all (at least one per piece; default
-    :func:`default_segments`), Tsit5 at rtol = atol = ``rtol`` (adaptive), or ``steps``
-    fixed steps per segment."""
+    """Multiple shooting.
+
+    Attributes:
+        segments: segments in all (at least one per piece; None: :func:`default_segments`).
+        rtol: Tsit5's rtol = atol (adaptive steps). None: ``SOLVE_RTOL`` for equilibria and
+            branches, and a fold ladder that starts at the fold tolerance itself (a fold
+            wanted to 1e-8 is located at rtol 1e-8, then 1e-9, ...: the work follows the
+            tolerance); a number: the ladder starts there whatever the fold tolerance.
+        steps: fixed Tsit5 steps per segment instead of adaptive ones (then ``rtol`` and
+            ``bracket_rtol`` mean nothing and must be None; the ladder doubles the steps).
+        bracket_rtol: follow branches at this looser ODE tolerance, and locate folds from
+            ``rtol`` (the branch only brackets them; None: everything at ``rtol``).
+    """
 
     segments: int | None = None
-    rtol: float = 1e-10
+    rtol: float | None = None
     steps: int | None = None
-    #: follow branches at this looser ODE tolerance, and locate folds from ``rtol`` (the
-    #: branch only brackets them; None: everything at ``rtol``)
     bracket_rtol: float | None = None
     name = "shooting"
 
@@ -72,20 +84,29 @@ class Shooting:
                                               and 1 <= self.segments <= 4096):
             raise ValueError(f"segments must be an integer in [1, 4096] or None, got "
                              f"{self.segments!r}")
-        if not (isinstance(self.rtol, float) and 1e-15 < self.rtol < 1e-2):
-            raise ValueError(f"rtol must be a float in (1e-15, 1e-2), got {self.rtol!r}")
+        if self.rtol is not None and not (isinstance(self.rtol, float)
+                                          and 1e-15 < self.rtol < 1e-2):
+            raise ValueError(f"rtol must be None or a float in (1e-15, 1e-2), got {self.rtol!r}")
+        low = SOLVE_RTOL if self.rtol is None else self.rtol
         if self.bracket_rtol is not None and not (
-                isinstance(self.bracket_rtol, float) and self.rtol <= self.bracket_rtol < 1e-2):
+                isinstance(self.bracket_rtol, float) and low <= self.bracket_rtol < 1e-2):
             raise ValueError(f"bracket_rtol must be None or a float in [rtol, 1e-2), got "
                              f"{self.bracket_rtol!r}")
-        if self.steps is not None and not (isinstance(self.steps, (int, np.integer))
-                                           and self.steps >= 1):
-            raise ValueError(f"steps must be a positive integer or None, got {self.steps!r}")
+        if self.steps is not None:
+            if not (isinstance(self.steps, (int, np.integer)) and self.steps >= 1):
+                raise ValueError(f"steps must be a positive integer or None, got "
+                                 f"{self.steps!r}")
+            if self.rtol is not None or self.bracket_rtol is not None:
+                raise ValueError("steps (fixed steps) and rtol / bracket_rtol (adaptive "
+                                 "steps) exclude each other: give one")
 
     def discretise(self, bvp) -> "ShootingSystem":
         segments = default_segments(bvp) if self.segments is None else self.segments
-        if self.bracket_rtol is None or self.steps is not None:
-            return ShootingSystem(bvp, segments, self.rtol, self.steps)
+        if self.steps is not None:
+            return ShootingSystem(bvp, segments, steps=self.steps)
+        rtol = SOLVE_RTOL if self.rtol is None else self.rtol
+        if self.bracket_rtol is None:
+            return ShootingSystem(bvp, segments, rtol, fold_rtol=self.rtol)
         return ShootingSystem(bvp, segments, self.bracket_rtol, fold_rtol=self.rtol)
 
 
@@ -136,8 +157,9 @@ class ShootingSystem:
     def __init__(self, bvp, segments: int, rtol: float = 1e-10, steps: int | None = None,
                  fold_rtol: float | None = None):
         self.bvp = bvp
-        #: the ODE tolerance the refinement ladder starts from (:meth:`for_tolerance`)
-        self.fold_rtol = rtol if fold_rtol is None else fold_rtol
+        #: the ODE tolerance the refinement ladder starts from (:meth:`for_tolerance`); None:
+        #: from the fold tolerance
+        self.fold_rtol = fold_rtol
         per_piece = max(1, int(math.ceil(segments / bvp.P)))
         edges = [np.linspace(bvp.a[i], bvp.b[i], per_piece + 1) for i in range(bvp.P)]
         self.s0 = np.concatenate([e[:-1] for e in edges])
@@ -152,7 +174,7 @@ class ShootingSystem:
         self.evaluations = 0
 
     def _args(self, p):
-        return (float(p), self.bvp.material_parameter, self.bvp.scene.h,
+        return (float(p), self.bvp.scene.material_parameter, self.bvp.scene.h,
                 self.bvp.field_parameters)
 
     def from_profile(self, profile) -> np.ndarray:
@@ -221,14 +243,23 @@ class ShootingSystem:
     def refined(self) -> "ShootingSystem":
         if self.steps is not None:
             return ShootingSystem(self.bvp, self.segments, steps=2 * self.steps)
-        return ShootingSystem(self.bvp, self.segments, self.rtol / RTOL_STEP)
+        rtol = self.rtol / RTOL_STEP
+        if rtol < RTOL_RANGE[0]:
+            raise ValueError(f"cannot refine below rtol = {RTOL_RANGE[0]:g}")
+        return ShootingSystem(self.bvp, self.segments, rtol, fold_rtol=rtol)
 
     def for_tolerance(self, tol: float) -> "ShootingSystem":
-        """The first rung of the fold ladder: this system at ``fold_rtol`` (the branch may
-        have been followed at a looser tolerance, only to bracket the folds)."""
-        if self.steps is not None or self.fold_rtol >= self.rtol:
+        """The first rung of the fold ladder for a fold tolerance ``tol``: the ODE tolerance
+        ``fold_rtol``, or ``tol`` itself (within ``RTOL_RANGE``) where the method left it
+        free (the branch may have been followed at a looser tolerance, only to bracket the
+        folds). Fixed steps: this system."""
+        if self.steps is not None:
             return self
-        return ShootingSystem(self.bvp, self.segments, self.fold_rtol)
+        rtol = self.fold_rtol if self.fold_rtol is not None else \
+            min(max(tol, RTOL_RANGE[0]), RTOL_RANGE[1])
+        if rtol == self.rtol:
+            return self
+        return ShootingSystem(self.bvp, self.segments, rtol, fold_rtol=rtol)
 
     def transfer(self, U, p, other) -> np.ndarray:
         if other.n != self.n:
