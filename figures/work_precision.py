@@ -80,7 +80,8 @@ def timed(cap, method, tol, repeats):
 def main():
     from tqdm import tqdm
 
-    from shellbvp import Chebyshev, ConvergenceError, default_nodes
+    from shellbvp import Chebyshev, ConvergenceError
+    from shellbvp.methods import default_nodes
     from shellbvp.problems import cap_eversion as ce
 
     p = parser(__doc__.splitlines()[0])

@@ -84,7 +84,7 @@ def scene(eta_a, eta_b) -> Scene:
         raise ValueError("eta_b must be > 0 (the curvature stimulus drives the bud), got 0")
     return Scene(theta=THETA, h=H, lam=LAM, model="relaxed", material="cg", apex="free",
                  edge="clamped", fields=patch, field_parameters=(*ga, *gb),
-                 breaks=(PATCH,), metric=eta_a > 0, parameter="kbar")
+                 breaks=(PATCH,), metric=eta_a > 0, parameter="kbar", parameter_unit="")
 
 
 def _method(nodes):

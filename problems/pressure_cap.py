@@ -138,6 +138,7 @@ def scene(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     return Scene(theta=theta, h=h, lam=lam, nu=nu if material == "koiter" else 0.5,
                  model=model, material=material,
                  apex="free", edge="clamped", fields=unstimulated, parameter="pressure",
+                 parameter_unit="R0_over_mu_h0",
                  pressure=pressure)
 
 

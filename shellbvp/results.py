@@ -94,6 +94,13 @@ class Equilibrium:
     thin_shell: tuple = (math.nan, math.nan)
     load_potential: float = 0.0
 
+    def __repr__(self) -> str:
+        if not self.success:
+            return f"Equilibrium({self.scene.parameter}={self.p:.6g}, failed: {self.message})"
+        return (f"Equilibrium({self.scene.parameter}={self.p:.6g}, w={self.w:.6g} R0 "
+                f"+- {self.error_estimate:.1e}, energy={self.energy:.6g}, "
+                f"{_resolution(self.stats)})")
+
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
         BVP's frame, apex at z = 0 for the reference cap): a guess for another solve."""
@@ -106,6 +113,15 @@ class Equilibrium:
         y[1] -= self.z_apex
         y[3:] *= self.scene.h**2 / 12
         return y
+
+
+def _resolution(stats: dict) -> str:
+    """The method and resolution in a result's statistics, e.g. ``spectral, nodes=32``."""
+    res = stats.get("resolution", stats)
+    method = res.get("method", stats.get("method", "?"))
+    size = ", ".join(f"{k}={v}" for k, v in res.items()
+                     if k in ("nodes", "segments", "rtol", "steps") and v is not None)
+    return f"{method}, {size}" if size else str(method)
 
 
 def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
@@ -194,6 +210,11 @@ class Fold:
     def w(self) -> float:
         return float(self.monitor * self.system.bvp.rise)
 
+    def __repr__(self) -> str:
+        name = self.system.bvp.scene.parameter if self.system is not None else "p"
+        return (f"Fold({name}={self.p:.10g} +- {self.error_estimate:.1e}, w={self.w:.6g} R0, "
+                f"{_resolution(self.stats)})")
+
     @property
     def equilibrium(self) -> Equilibrium:
         return equilibrium_from(self.system, self.U, self.p, stats=self.stats,
@@ -238,6 +259,14 @@ class Branch:
     load_potential: np.ndarray = field(repr=False, default=None)
     method: Any = field(repr=False, compare=False, default=None)
 
+    def __repr__(self) -> str:
+        name = self.scene.parameter
+        folds = ", ".join(f"{f.p:.8g}" for f in self.folds)
+        return (f"Branch({name} {self.p[0]:.6g} -> {self.p[-1]:.6g}, w {self.w[0]:.4g} -> "
+                f"{self.w[-1]:.4g} R0, {self.p.size} points, {len(self.folds)} fold(s)"
+                + (f" at {name} = {folds}" if folds else "")
+                + (f", stopped: {self.stop}" if self.stop else "") + ")")
+
     def equilibrium(self, i: int) -> Equilibrium:
         """The equilibrium at point i of the branch."""
         if not -len(self.points) <= i < len(self.points):
@@ -259,7 +288,7 @@ class Branch:
         """Write the diagram to ``path`` atomically; units are in the column names."""
         buf = io.StringIO()
         wr = csv.writer(buf, lineterminator="\n")
-        wr.writerow([f"{self.scene.parameter}_R0", "w_over_R0", "energy", "stretching_energy",
+        wr.writerow([self.scene.parameter_column, "w_over_R0", "energy", "stretching_energy",
                      "bending_energy", "arclength", "is_fold"])
         for r in self.rows():
             wr.writerow([repr(float(v)) for v in r[:6]] + [int(r[6])])

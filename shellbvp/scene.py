@@ -90,6 +90,9 @@ class Scene:
         breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
         metric: whether the fields change the metric (g != 1).
         parameter: name of the scalar stimulus parameter p.
+        parameter_unit: how p is made dimensionless, for column names: ``"R0"`` (the
+            default, p R0 for a curvature such as kappa), ``""`` (p is a pure number, e.g.
+            budding's kbar), or e.g. ``"R0_over_mu_h0"`` (a pressure, p R0 / (mu* h0)).
         nu: Poisson ratio of the Koiter reference model (``material="koiter"`` only: other
             materials refuse a value other than the default 0.5).
     """
@@ -106,6 +109,7 @@ class Scene:
     breaks: tuple = ()
     metric: bool = False
     parameter: str = "kappa"
+    parameter_unit: str = "R0"
     nu: float = 0.5
     pressure: Callable | None = None
     field_parameters: tuple = ()
@@ -141,6 +145,9 @@ class Scene:
         if self.material == "koiter":
             checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
         checks.check_positive("rhob1", self.rhob1)
+        for name in ("parameter", "parameter_unit"):
+            if not isinstance(getattr(self, name), str):
+                raise ValueError(f"{name} must be a string, got {getattr(self, name)!r}")
         checks.check_choice("apex", self.apex, APEX)
         checks.check_choice("edge", self.edge, EDGE)
         if self.pressure is not None and not callable(self.pressure):
@@ -157,6 +164,12 @@ class Scene:
             raise ValueError(f"field_parameters must be a tuple of finite numbers, got "
                              f"{self.field_parameters!r}")
         object.__setattr__(self, "field_parameters", tuple(float(x) for x in c))
+
+    @property
+    def parameter_column(self) -> str:
+        """The parameter's column name with its unit, e.g. ``kappa_R0``, ``kbar``."""
+        return f"{self.parameter}_{self.parameter_unit}" if self.parameter_unit \
+            else self.parameter
 
     @property
     def pieces(self) -> int:

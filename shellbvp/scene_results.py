@@ -42,6 +42,13 @@ class SnapResult:
     fold: object = field(repr=False, default=None)
     gradient: dict | None = None
 
+    def __repr__(self) -> str:
+        cap = f"T={self.T:.6g}, h={self.h:g}, {self.material}"
+        if not self.snaps:
+            return f"SnapResult(no snap, {cap})"
+        return (f"SnapResult(kappa_s={self.kappa_s:.10g} +- {self.error_estimate:.1e}, "
+                f"w_s={self.w_s:.6g} R0, {cap})")
+
 
 @dataclass(frozen=True)
 class Onset:
@@ -96,6 +103,13 @@ class PressureResult:
     w_apex: float
     fold: object = field(repr=False, default=None)
     branch: object = field(repr=False, default=None)
+
+    def __repr__(self) -> str:
+        cap = f"lambda_B={self.lambda_B:g}, R/t={self.R_over_t:g}, {self.material}"
+        if not self.snaps:
+            return f"PressureResult(no snap, {cap})"
+        return (f"PressureResult(p_cr/p0={self.p_cr_over_p0:.8g} +- {self.error_estimate:.1e}, "
+                f"w_apex/t={self.w_apex_over_t:.4g}, {cap})")
 
     @property
     def w_apex_over_t(self) -> float:

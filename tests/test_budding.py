@@ -15,7 +15,8 @@ import pytest
 import sympy as sp
 
 import shellbvp
-from shellbvp import Collocation, ShellBVP
+from shellbvp import Collocation
+from shellbvp.bvp import ShellBVP
 from shellbvp.problems import budding as bd
 from shellbvp.ellipticity import ellipticity
 
@@ -234,3 +235,13 @@ def test_undeformed_cap_is_elliptic_and_thin():
     eq = bd.equilibrium(0.0, 1.0, 0.0)
     assert np.all(eq.legendre > 0) and eq.pole_hessian_min > 0
     assert eq.thin_shell == pytest.approx((0.02, 0.02), rel=1e-9)   # h |k| = h / R0
+
+
+def test_equilibrium_near_solves_with_the_branchs_method():
+    """A branch followed by collocation is solved between its points by collocation too
+    (``Branch.method``), not by the default spectral method."""
+    b = bd.branch(0.0, 1.0, 4.0, method=Collocation(nodes=41))
+    eq = bd.equilibrium_near(b, len(b.p) - 1, 3.0)
+    assert b.stats["method"] == eq.stats["method"] == "collocation"
+    spec = at(0.0, 1.0, 3.0)
+    assert abs(eq.w - spec.w) <= 1e-6 * spec.w

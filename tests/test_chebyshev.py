@@ -12,8 +12,9 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from shellbvp import (Chebyshev, Collocation, ContinuationOptions, Scene, ShellBVP, Shooting,
+from shellbvp import (Chebyshev, Collocation, ContinuationOptions, Scene, Shooting,
                       solve)
+from shellbvp.bvp import ShellBVP
 from shellbvp.continuation import locate_fold, newton, polish_fold, pseudo_arclength
 from shellbvp.problems import cap_eversion as ce
 

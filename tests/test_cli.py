@@ -82,7 +82,7 @@ def test_written_files_have_ordinary_permissions(tmp_path):
     the umask), like open(path, "w"), not the 0600 of a temporary file."""
     import os
 
-    from shellbvp import atomic_write_text
+    from shellbvp.cache import atomic_write_text
     from shellbvp.cache import atomic_write_bytes      # the figures' PNG files
 
     old = os.umask(0o022)

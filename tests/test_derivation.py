@@ -140,7 +140,7 @@ def test_nh_thickness_map_is_isochoric():
                 / ((1 - phib * cb1) * (1 - phib * cb2) * dphib))
 
     Zs = np.array([0.04, 0.02, 0.01])
-    phi, dphi, phib, dphib = shellbvp.thickness_map(Zs, *st, material="nh", rhob1=rb[0],
+    phi, dphi, phib, dphib = shellbvp.energy.thickness_map(Zs, *st, material="nh", rhob1=rb[0],
                                                     rhob2=rb[1], rhob3=rb[2])
     assert np.max(np.abs(J(phi, dphi, phib, dphib) - 1)) < 1e-14
     ser = J(r1 * Zs + r2 * Zs**2 + r3 * Zs**3, r1 + 2 * r2 * Zs + 3 * r3 * Zs**2, phib, dphib)

@@ -68,7 +68,8 @@ def test_stiff_material_floor_bounds_the_scatter_between_degrees(lam):
     """Folds of the stiff cap located on ladders from degrees 40, 48, 56, 64 (different
     Newton paths and discretisations, each converged far below the floor) lie within the
     floor of each other; each estimate is at least that floor."""
-    from shellbvp import Chebyshev, Scene, ShellBVP
+    from shellbvp import Chebyshev, Scene
+    from shellbvp.bvp import ShellBVP
 
     runs = [ce.snap_curvature(THETA, 0.01, lam, tol=1e-10, method=Chebyshev(nodes=N))
             for N in (40, 48, 56, 64)]

@@ -9,6 +9,7 @@ import pytest
 from scipy.optimize import brentq
 
 import shellbvp
+import shellbvp.bvp
 from shellbvp.continuation import fold_system_terms, solve_fold
 from shellbvp.continuation.newton import bordered_lu
 from shellbvp.problems import cap_eversion as ce
@@ -73,7 +74,7 @@ def test_fold_function_derivatives_equal_finite_differences(fold):
     from dataclasses import replace
 
     def at(e):
-        return sigma(system.on(shellbvp.ShellBVP(replace(sc, theta=sc.theta + e))), U, p)
+        return sigma(system.on(shellbvp.bvp.ShellBVP(replace(sc, theta=sc.theta + e))), U, p)
 
     fd = central(at, 1e-4)
     assert abs(sth - fd) <= 1e-6 * abs(fd), (sth, fd)

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from shellbvp import Chebyshev, Collocation, Scene, ShellBVP, Shooting, solve
+from shellbvp import Chebyshev, Collocation, Scene, Shooting, solve
+from shellbvp.bvp import ShellBVP
 
 THETA = math.pi / 6
 CAP = Scene(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
