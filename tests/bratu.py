@@ -7,7 +7,7 @@ u'(0) = 4 there.
 
 import numpy as np
 
-from shellbvp.bvp import Nodal
+from shellbvp.nodal import Nodal
 
 LAM_STAR = 3.513830719125161
 

@@ -225,11 +225,11 @@ def test_kernel_disk_keys_cover_only_code_the_package_hashes():
     module-level function); a user's closure keeps its programs in memory (its code is not
     in the package's hash). The budding cases differ only in their field parameters,
     arguments of the programs, not code: one key."""
-    from shellbvp.bvp import _disk_key
+    from shellbvp.kernels import disk_key
     from shellbvp.problems import budding, pressure_cap
 
-    a = _disk_key((budding.scene(0.0, 1.0).fields, None), "x")
-    b = _disk_key((budding.scene(0.0, 0.5).fields, None), "x")
-    c = _disk_key((pressure_cap.unstimulated, pressure_cap.pressure), "x")
+    a = disk_key((budding.scene(0.0, 1.0).fields, None), "x")
+    b = disk_key((budding.scene(0.0, 0.5).fields, None), "x")
+    c = disk_key((pressure_cap.unstimulated, pressure_cap.pressure), "x")
     assert a and c and a == b and a != c
-    assert _disk_key((lambda piece, s, p: (1.0, 1.0, -1.0, -1.0), None), "x") is None
+    assert disk_key((lambda piece, s, p: (1.0, 1.0, -1.0, -1.0), None), "x") is None
