@@ -17,7 +17,7 @@ from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fo
 from .errors import ConvergenceError
 from .models import MATERIAL_PARAMETER
 from .methods import Collocation, as_method
-from .methods.base import DirectSolver, SecondOrder, Transplantable
+from .methods.base import DirectSolver, SecondOrder, Transplantable, implements
 from .ellipticity import elliptic_point, stall_reason
 from .results import Branch, Equilibrium, Fold, equilibrium_from, failed_equilibrium
 from .scene import Scene
@@ -80,7 +80,7 @@ def _newton_at(system, U, p, what):
 
 
 def _discrete_solve(method, bvp, p, profile):
-    if isinstance(method, DirectSolver):    # a method with its own solver (solve_bvp)
+    if implements(method, DirectSolver):    # a method with its own solver (solve_bvp)
         return method.solve(bvp, p, profile)
     system = method.discretise(bvp)
     res = _newton_at(system, system.from_profile(profile), p, method.name)
@@ -293,7 +293,7 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
     old = near.system
-    if not isinstance(old, Transplantable) or old.bvp.P != scene.pieces:
+    if not implements(old, Transplantable) or old.bvp.P != scene.pieces:
         raise ValueError("fold_near needs a fold found by the Chebyshev method on a scene with "
                          "the same pieces")
     options = ContinuationOptions() if options is None else options
@@ -313,7 +313,7 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
         D = displacement(near)
     U = D + system.from_profile(bvp.reference)
     # the ladder starts where the tolerance needs it, not on the nearby fold's last rung
-    if isinstance(system, SecondOrder):
+    if implements(system, SecondOrder):
         try:
             return fold_ladder(system, U, p0, options=options)
         except ConvergenceError:
@@ -350,7 +350,7 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
     the snap is born. Raises ValueError for a fold of another method or a non-finite or
     non-positive step, ConvergenceError where the curve cannot be followed (e.g. past its
     end, where the fold ceases to exist)."""
-    if not (isinstance(near, Fold) and isinstance(near.system, SecondOrder)):
+    if not (isinstance(near, Fold) and implements(near.system, SecondOrder)):
         raise ValueError("fold_curve_point needs a fold found by the spectral method")
     if not (math.isfinite(monitor) and math.isfinite(step) and step > 0):
         raise ValueError(f"monitor must be finite and step positive, got monitor={monitor!r}, "

@@ -19,7 +19,7 @@ import numpy as np
 from .cache import atomic_write_text
 from .ellipticity import ellipticity
 from .errors import ConvergenceError
-from .methods.base import InnerRoots
+from .methods.base import InnerRoots, implements
 from .scene import Scene
 
 __all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
@@ -135,7 +135,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     # root followed along the meridian from the pole may find none (the budding branches'
     # last points could not be evaluated before)
     roots = None
-    if isinstance(system, InnerRoots):
+    if implements(system, InnerRoots):
         try:
             roots = system.inner_roots(U, p)
         except ConvergenceError:

@@ -237,6 +237,7 @@ def test_undeformed_cap_is_elliptic_and_thin():
     assert eq.thin_shell == pytest.approx((0.02, 0.02), rel=1e-9)   # h |k| = h / R0
 
 
+@pytest.mark.slow  # collocation compiles the budding scene's programs at its own sizes (~25 s)
 def test_equilibrium_near_solves_with_the_branchs_method():
     """A branch followed by collocation is solved between its points by collocation too
     (``Branch.method``), not by the default spectral method."""

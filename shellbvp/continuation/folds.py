@@ -17,7 +17,8 @@ import numpy as np
 
 from ..errors import ConvergenceError
 from ..results import Fold
-from ..methods.base import Discretisation, SecondOrder, ShellProblem, Transplantable, first_rung
+from ..methods.base import (Discretisation, SecondOrder, ShellProblem, Transplantable,
+                            first_rung, implements)
 from .newton import bordered_lu, newton, tangent
 from .options import ContinuationOptions
 
@@ -41,8 +42,8 @@ SLOPE_TRUST = 1.0
 def _scatter(system, p) -> float:
     """The round-off scatter of a fold parameter p of ``system``'s problem
     (``bvp.round_off``), 0 where the problem does not state it."""
-    bvp = system.bvp if isinstance(system, Discretisation) else None
-    return bvp.round_off(p) if isinstance(bvp, ShellProblem) else 0.0
+    bvp = system.bvp if implements(system, Discretisation) else None
+    return bvp.round_off(p) if implements(bvp, ShellProblem) else 0.0
 
 
 class _Slope:
@@ -272,7 +273,7 @@ def _in_end_state_coordinate(system, a, b, *, options, index, t0) -> Fold:
     be carried to another BVP (``on``, ``split``: the Chebyshev method)."""
     from dataclasses import replace
 
-    if not isinstance(system, Transplantable):
+    if not implements(system, Transplantable):
         raise ConvergenceError("fold location in an end-state coordinate needs the spectral "
                                "method")
 
@@ -405,7 +406,7 @@ def fold_sensitivity(fold) -> dict:
     Equivalently dp*/dx = -psi . dR/dx / psi . dR/dp with psi the left null vector of dR/dU.
     """
     system = fold.system
-    if not isinstance(system, SecondOrder):
+    if not implements(system, SecondOrder):
         raise ValueError(f"fold derivatives need a discretisation that offers them (the "
                          f"spectral method), got {system.describe()}")
     R, J, Rp = system.evaluate(fold.U, fold.p)

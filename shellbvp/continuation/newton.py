@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from ..convergence import CONTRACTION_BOUND
 from ..errors import ConvergenceError
+from ..methods.base import implements
 
 __all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "one_update_error",
            "jacobian_error", "Stopping", "relative_step", "is_sparse", "FAIL_CONTRACTION",
@@ -48,7 +50,7 @@ class StatesJacobianError(Protocol):
 def jacobian_error(system) -> float:
     """The relative error of ``system``'s Jacobian where it states one, inf where it does not
     (e.g. a hand-written system): one Newton update then never counts as converged alone."""
-    return float(system.jacobian_error) if isinstance(system, StatesJacobianError) \
+    return float(system.jacobian_error) if implements(system, StatesJacobianError) \
         else math.inf
 
 
@@ -134,6 +136,15 @@ def relative_step(d, U, p) -> float:
                abs(d[-1]) / (1.0 + abs(p)))
 
 
+@lru_cache(maxsize=None)
+def _lapack():
+    """LAPACK's dgetrf and dgetrs, imported on first use (``import shellbvp`` does not load
+    scipy) and then held: an import statement in the factorisation costs ~50 us a call."""
+    from scipy.linalg.lapack import dgetrf, dgetrs
+
+    return dgetrf, dgetrs
+
+
 def is_sparse(J) -> bool:
     """Whether a Jacobian is scipy.sparse (the dense ones are numpy arrays): decided without
     importing scipy.sparse, which ``import shellbvp`` does not load."""
@@ -144,8 +155,7 @@ class _Factor:
     """LU of the bordered matrix, dense or sparse."""
 
     def __init__(self, A):
-        from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
-
+        _getrf, _getrs = _lapack()
         if is_sparse(A):
             import scipy.sparse.linalg as spla
 

@@ -13,7 +13,8 @@ defaults of each (used by the command line).
 from __future__ import annotations
 
 from .base import (DirectSolver, DiscreteSystem, Discretisation, InnerRoots, Method,
-                   NodalBVP, NodalSystem, SecondOrder, ShellProblem, Transplantable)
+                   NodalBVP, NodalSystem, SecondOrder, ShellProblem, Transplantable,
+                   implements)
 from .chebyshev import Chebyshev, bracketing_nodes, default_nodes
 from .collocation import Collocation
 from .shooting import Shooting
@@ -39,7 +40,7 @@ def as_method(method: "Method | str") -> Method:
             raise ValueError(f"method must be one of {tuple(METHODS)} or a method object, "
                              f"got {method!r}")
         return METHODS[method]()
-    if not isinstance(method, Method):
+    if not implements(method, Method):
         raise ValueError(f"method must be one of {tuple(METHODS)} or a method object "
                          f"(Chebyshev, Shooting, Collocation), got {type(method).__name__}")
     return method
