@@ -6,18 +6,23 @@ line. T runs from below the onset of snapping (computed for every curve, vertica
 the folds before them). Writes fig3_snap_curve.png, fig3_snap_curve.csv (every kappa_s with its error estimate)
 and fig3_onset.csv.
 
-    python figures/fig3_snap_curve.py [--quick] [--h 0.01]
+    python figures/fig3_snap_curve.py [--quick] [--h 0.01] [--jobs 2]
+
+With ``--jobs N`` the onsets and the sweeps' chunks run on N local processes (the values are
+the same: the chunks do not depend on who runs them).
 """
 
 from __future__ import annotations
 
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from tqdm import tqdm
 
 from _common import finish, parser, pyplot, write_csv
 from shellbvp.problems import cap_eversion as ce
+from shellbvp.sweep import local_executor
 
 LAMS = (0.01, 0.1, 1.0, 10.0)
 
@@ -25,18 +30,34 @@ LAMS = (0.01, 0.1, 1.0, 10.0)
 def main(argv=None):
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--h", type=float, default=0.01, help="h0/R0 (default 0.01)")
+    p.add_argument("--jobs", type=int, default=1, help="local processes (default 1)")
     a = p.parse_args(argv)
     curves = [("koiter", 1.0)] + [("cg", lam) for lam in ((0.1, 10.0) if a.quick else LAMS)]
     T_values = np.array([3.0, 5.0, 7.0, 9.0]) if a.quick else np.arange(1.5, 10.001, 0.25)
     rows, onsets, times = [], [], []
-    for material, lam in tqdm(curves, desc="fig3 curves"):
-        if not a.quick:
-            o = ce.onset(a.h, lam, material=material)
-            onsets.append([material, lam, o.T, o.error_estimate])
+    pool = local_executor(a.jobs) if a.jobs > 1 else None
+    pending = {} if a.quick or pool is None else {
+        (material, lam): pool.submit(ce.onset, a.h, lam, material=material)
+        for material, lam in curves}
+
+    def sweep(curve):
+        material, lam = curve
         t0 = time.perf_counter()
-        out = ce.snap_curve(T_values, a.h, lam, material=material, progress=False)
-        times.append((material, lam, time.perf_counter() - t0,
-                      int(out["along_fold_curve"].sum())))
+        out = ce.snap_curve(T_values, a.h, lam, material=material, progress=False,
+                            executor=pool)
+        return out, time.perf_counter() - t0
+
+    if pool is None:
+        results = [sweep(c) for c in tqdm(curves, desc="fig3 curves")]
+    else:
+        with ThreadPoolExecutor(max_workers=len(curves)) as fan:
+            results = list(fan.map(sweep, curves))
+    for (material, lam), (out, t) in zip(curves, results):
+        if not a.quick:
+            o = pending[(material, lam)].result() if pending else \
+                ce.onset(a.h, lam, material=material)
+            onsets.append([material, lam, o.T, o.error_estimate])
+        times.append((material, lam, t, int(out["along_fold_curve"].sum())))
         rows += [[material, lam, *r] for r in zip(
             out["T"], out["theta"], out["kappa_s"], out["w_s"], out["error_estimate"],
             out["snaps"].astype(int))]
@@ -74,6 +95,8 @@ def main(argv=None):
     errs = [r[6] for r in rows if r[7]]
     print(f"{len(rows)} caps, {sum(r[7] for r in rows)} snap; largest kappa_s error estimate "
           f"{max(errs):.1e}")
+    if pool is not None:
+        pool.shutdown()
 
 
 if __name__ == "__main__":

@@ -16,14 +16,18 @@ maximum of kappa along the branch; shallow caps evert without a fold.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import replace
 
 import numpy as np
 
 import shellbvp
-from shellbvp import (Chebyshev, ContinuationOptions, Onset, Scene, SnapResult, as_method)
+from shellbvp import (Chebyshev, ContinuationOptions, Onset, Scene, SnapCurve, SnapResult,
+                      as_method)
 from shellbvp.cache import atomic_write_text
 from shellbvp.methods import bracketing_nodes
+from shellbvp.sweep import CHUNK_SIZE, Chunk, Journal, Record, SweepInterrupted, one_line
+from shellbvp.sweep import run as run_sweep
 
 #: the fold tolerance (in kappa R0) where neither ``tol`` nor ``options.fold_tol`` is given
 TOL = 1e-9
@@ -32,8 +36,8 @@ BRACKET_RTOL = 1e-5
 #: largest step in w / H along the fold curve from the first snapping cap to the cusp
 ONSET_STEP = 0.05
 
-__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve", "onset",
-           "Onset", "flat_slope"]
+__all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve",
+           "SnapCurve", "CURVE_COLUMNS", "onset", "Onset", "flat_slope"]
 
 
 def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene:
@@ -142,21 +146,50 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                       gradient=shellbvp.fold_gradient(f) if gradient else None)
 
 
+#: the columns of a kappa_s sweep's CSV, with their units (the first six as before; status
+#: is ok / no snap / failed, reason the error of a failed cap in one line)
+CURVE_COLUMNS = ("T", "theta_rad", "kappa_s_R0", "w_s_over_R0", "kappa_s_error", "snaps",
+                 "status", "reason")
+_VALUES = ("theta", "kappa_s", "w_s", "error_estimate", "snaps", "along_fold_curve")
+
+
 def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-9,
-               method="spectral", csv_path=None, progress=True):
+               method="spectral", csv_path=None, progress=True, resume: bool = False,
+               jobs: int = 1, executor=None, chunk_size: int = CHUNK_SIZE) -> SnapCurve:
     """kappa_s R0 against the shallowness T = Theta sqrt(R0/h0) at fixed h.
 
-    Each cap is continued from kappa = 0 until a cap snaps; the caps after it (spectral
-    method) are points of the fold curve: the fold system (equilibrium and dp/dm = 0, exact
-    second derivatives) solved by Newton at exactly that T from the extrapolation of the
-    folds of the caps before (:func:`shellbvp.fold_near`), falling back to continuation
-    where that fails. Either way every kappa_s is refined on the ladder of degrees to
-    ``tol`` and carries the change between its last two rungs as its error estimate.
+    The caps are cut into chunks of ``chunk_size`` consecutive T (:mod:`shellbvp.sweep`).
+    In a chunk each cap is continued from kappa = 0 until a cap snaps; the caps after it
+    (spectral method) are points of the fold curve: the fold system (equilibrium and
+    dp/dm = 0, exact second derivatives) solved by Newton at exactly that T from the
+    extrapolation of the folds of the caps before (:func:`shellbvp.fold_near`), falling
+    back to continuation where that fails. Either way every kappa_s is refined on the ladder
+    of degrees to ``tol`` and carries the change between its last two rungs as its error
+    estimate. A cap that fails does not stop the sweep: its row says ``failed`` and why,
+    and the next cap starts from kappa = 0.
 
-    Returns a dict of arrays ``T``, ``theta``, ``kappa_s``, ``w_s``, ``error_estimate``,
-    ``snaps`` (kappa_s = nan where the cap does not snap) and ``along_fold_curve`` (found
-    from the caps before rather than by continuation from kappa = 0). Writes CSV atomically to
-    ``csv_path`` when given; shows a progress bar unless ``progress=False``.
+    Arguments:
+        csv_path: write the sweep there (columns ``CURVE_COLUMNS``), atomically; while it
+            runs every finished cap is appended to a journal beside it
+            (``csv_path + ".journal"``, removed once the CSV is complete).
+        resume: continue from that journal (same sweep: same caps and parameters), skipping
+            the caps already finished; the result is that of an uninterrupted run.
+        jobs: local processes (1: this one); ``executor``: any
+            ``concurrent.futures.Executor`` instead (e.g. Dask's
+            ``Client(...).get_executor()``). The chunks, hence the values, are the same
+            whatever runs them.
+        progress: a progress bar (tqdm) unless False.
+
+    Returns:
+        :class:`shellbvp.SnapCurve`: one record per cap (``status``: ok, no snap, failed;
+        ``reason``), and its columns as arrays (``curve["kappa_s"]``, ...).
+
+    Raises:
+        ValueError: bad T_values (or a cap beyond a hemisphere), jobs, chunk_size, or a
+            journal of another sweep.
+        SweepInterrupted: Ctrl-C (or SIGTERM where the caller maps it, as the command line
+            does): the caps finished before it are written to ``csv_path`` with a last
+            line ``# incomplete: ...``, and the journal is kept for ``resume``.
     """
     from tqdm import tqdm
 
@@ -165,26 +198,82 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
             np.any(T_values <= 0):
         raise ValueError(f"T_values must be a non-empty 1-D array of positive numbers, "
                          f"got {T_values!r}")
-    rows, folds = [], []    # folds: (T, fold) of the caps just before, along the fold curve
-    for T in tqdm(T_values, desc="kappa_s sweep", disable=not progress, unit="cap"):
-        theta = T * math.sqrt(h)
-        r = None
-        if folds and _default_spectral(method):
-            r = _along_fold_curve(T, folds, h, lam, model, material, nu, tol)
-        if r is None:
-            r = snap_curvature(theta, h, lam, model=model, material=material, nu=nu,
-                               tol=tol, method=method)
-        folds = (folds + [(T, r.fold)])[-3:] if r.snaps else []
-        rows.append((float(T), float(r.theta), float(r.kappa_s), float(r.w_s),
-                     float(r.error_estimate), bool(r.snaps),
-                     bool(r.stats.get("along_fold_curve", False))))
-    out = {k: np.array([row[i] for row in rows]) for i, k in
-           enumerate(("T", "theta", "kappa_s", "w_s", "error_estimate", "snaps",
-                      "along_fold_curve"))}
+    for T in (T_values.min(), T_values.max()):       # every cap is a valid scene
+        scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
+    if resume and csv_path is None:
+        raise ValueError("resume=True needs csv_path (the journal lives beside it)")
+    spec = dict(h=float(h), lam=float(lam), model=model, material=material, nu=float(nu),
+                tol=float(tol), method=method)
+    journal = None if csv_path is None else os.fspath(csv_path) + ".journal"
+    bar = tqdm(total=T_values.size, desc="kappa_s sweep", disable=not progress, unit="cap")
+    try:
+        records = run_sweep(T_values, _sweep_chunk, spec, chunk_size=chunk_size,
+                            journal=journal, resume=resume, jobs=jobs, executor=executor,
+                            progress=bar.update)
+    except SweepInterrupted as stop:
+        if csv_path is not None:
+            _write_curve(csv_path, stop.records,
+                         f"# incomplete: {len(stop.records)} of {stop.total} caps; "
+                         f"resume=True (shellbvp sweep ... --resume) continues")
+        raise
+    finally:
+        bar.close()
+    curve = SnapCurve(tuple(records), complete=True)
     if csv_path is not None:
-        lines = ["T,theta_rad,kappa_s_R0,w_s_over_R0,kappa_s_error,snaps"]
-        lines += [f"{T!r},{th!r},{k!r},{w!r},{e!r},{int(s)}" for T, th, k, w, e, s, _ in rows]
-        atomic_write_text(csv_path, "\n".join(lines) + "\n")
+        _write_curve(csv_path, records)
+        Journal(journal).remove()
+    return curve
+
+
+def _write_curve(path, records, trailer=""):
+    lines = [",".join(CURVE_COLUMNS)]
+    for r in records:
+        v = r.values
+        lines.append(",".join([repr(r.key), repr(v["theta"]), repr(v["kappa_s"]),
+                               repr(v["w_s"]), repr(v["error_estimate"]),
+                               str(int(v["snaps"])), r.status, _csv_text(r.reason)]))
+    if trailer:
+        lines.append(trailer)
+    atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def _csv_text(text: str) -> str:
+    """A reason as one CSV field (quoted where it holds commas or quotes)."""
+    if any(c in text for c in ',"\n'):
+        return '"' + text.replace('"', '""').replace("\n", " ") + '"'
+    return text
+
+
+def _sweep_chunk(chunk: Chunk) -> list:
+    """The caps of one chunk of a sweep, in order (a :mod:`shellbvp.sweep` task): each from
+    the folds of the one to three snapping caps before it in the chunk where there are
+    such (along the fold curve), else continued from kappa = 0."""
+    sp = chunk.spec
+    h, lam, model, material, nu, tol, method = (sp[k] for k in (
+        "h", "lam", "model", "material", "nu", "tol", "method"))
+    out, folds = [], []     # folds: (T, fold) of the caps just before, along the fold curve
+    for k, T in enumerate(chunk.keys):
+        theta = T * math.sqrt(h)
+        try:
+            r = None
+            if folds and _default_spectral(method):
+                r = _along_fold_curve(T, folds, h, lam, model, material, nu, tol)
+            if r is None:
+                r = snap_curvature(theta, h, lam, model=model, material=material, nu=nu,
+                                   tol=tol, method=method)
+        except (shellbvp.ConvergenceError, ArithmeticError, RuntimeError) as exc:
+            folds = []
+            values = dict(theta=theta, kappa_s=math.nan, w_s=math.nan,
+                          error_estimate=math.nan, snaps=False, along_fold_curve=False)
+            out.append(chunk.emit(Record(chunk.first + k, T, "failed", one_line(exc),
+                                         values)))
+            continue
+        folds = (folds + [(T, r.fold)])[-3:] if r.snaps else []
+        values = dict(theta=float(r.theta), kappa_s=float(r.kappa_s), w_s=float(r.w_s),
+                      error_estimate=float(r.error_estimate), snaps=bool(r.snaps),
+                      along_fold_curve=bool(r.stats.get("along_fold_curve", False)))
+        out.append(chunk.emit(Record(chunk.first + k, T, "ok" if r.snaps else "no snap",
+                                     "", values)))
     return out
 
 

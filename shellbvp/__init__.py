@@ -18,12 +18,13 @@ Stability
     second_variation
 Results
     Equilibrium, Branch, Fold, MonitorPoint, FoldCurvePoint, SecondVariation, SnapResult,
-    Onset, PressureResult, ConvergenceError
+    Onset, PressureResult, SnapCurve, ConvergenceError
 
 Lower tiers: :mod:`shellbvp.bvp` (``ShellBVP``, the multi-point BVP of a scene),
 :mod:`shellbvp.methods` (``default_nodes``, ``bracketing_nodes``, the protocols),
 :mod:`shellbvp.continuation` (Newton, pseudo-arclength, folds), :mod:`shellbvp.energy`
-(``thickness_map``), :mod:`shellbvp.series`, :mod:`shellbvp.cache` (``atomic_write_text``).
+(``thickness_map``), :mod:`shellbvp.series`, :mod:`shellbvp.cache` (``atomic_write_text``),
+:mod:`shellbvp.sweep` (sweeps with per-item outcomes, a journal, resumption and executors).
 Scenes of the paper live in :mod:`shellbvp.problems`, the command line in
 :mod:`shellbvp.cli`.
 
@@ -44,7 +45,7 @@ from .methods import Chebyshev, Collocation, Shooting, as_method
 from .models import MATERIALS, MODELS
 from .results import Branch, Equilibrium, Fold
 from .scene import Scene, uniform_curvature
-from .scene_results import Onset, PressureResult, SnapResult
+from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
 
 try:
@@ -60,6 +61,6 @@ __all__ = [
     "ContinuationOptions",
     "second_variation",
     "Equilibrium", "Branch", "Fold", "MonitorPoint", "FoldCurvePoint", "SecondVariation",
-    "SnapResult", "Onset", "PressureResult", "ConvergenceError",
+    "SnapResult", "Onset", "PressureResult", "SnapCurve", "ConvergenceError",
     "__version__",
 ]

@@ -2,15 +2,21 @@
 
     shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
-    shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv
+    shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv [--jobs 2] [--resume]
 
-Bad arguments exit with code 2 and one line on stderr; a solver failure exits with 1.
+Bad arguments exit with code 2 and one line on stderr; a solver failure exits with 1. A
+sweep never stops on one cap: every cap gets a row (status ok / no snap / failed, and the
+reason), it prints a summary and exits 0 when every cap is ok or does not snap, 1 when some
+failed (the CSV complete all the same). Ctrl-C or SIGTERM stops it with one line and exit
+code 130, leaving the finished caps in the CSV (marked incomplete) and in its journal, from
+which ``--resume`` continues.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
 
 import numpy as np
@@ -45,6 +51,33 @@ def _common(p, theta=True):
                    help="discretisation (default spectral: Chebyshev collocation)")
 
 
+def _sweep(a, ce, opts) -> int:
+    """The sweep command: a summary line, exit 0 / 1 (some caps failed) / 130 (stopped)."""
+    from .sweep import SweepInterrupted
+
+    def stop(signum, frame):        # a cluster's time limit is a SIGTERM: stop like Ctrl-C
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        chunk = {} if a.chunk_size is None else {"chunk_size": a.chunk_size}
+        curve = ce.snap_curve(a.T, a.h, a.lam, tol=a.tol, csv_path=a.csv, jobs=a.jobs,
+                              resume=a.resume, progress=sys.stderr.isatty(), **chunk, **opts)
+    except SweepInterrupted as exc:
+        print(f"shellbvp: interrupted after {len(exc.records)} of {exc.total} caps; results "
+              f"so far in {a.csv}; --resume continues", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    c = curve.counts()
+    print(f"{len(curve.records)} caps: {c['ok']} snap, {c['no snap']} no snap, "
+          f"{c['failed']} failed -> {a.csv}")
+    for r in curve.records:
+        if r.status == "failed":
+            print(f"  failed at T = {r.key:g}: {r.reason}", file=sys.stderr)
+    return 1 if c["failed"] else 0
+
+
 def _material(a) -> str:
     """The material and only the parameters it uses."""
     return {"cg": f"material = cg, lam = {a.lam:g}, model = {a.model}",
@@ -73,6 +106,12 @@ def parser():
     _common(w, theta=False)
     w.add_argument("--T", type=_range, required=True, help="START:STOP:STEP of T")
     w.add_argument("--csv", required=True, help="output CSV file")
+    w.add_argument("--jobs", type=int, default=1,
+                   help="local processes (default 1); the values do not depend on it")
+    w.add_argument("--chunk-size", type=int, default=None,
+                   help="caps per chunk, each following its own fold curve (default 12)")
+    w.add_argument("--resume", action="store_true",
+                   help="continue an interrupted sweep from its journal (CSV.journal)")
     return p
 
 
@@ -108,8 +147,7 @@ def main(argv=None) -> int:
             br.to_csv(a.csv)
             print(f"{br.p.size} points, {len(br.folds)} fold(s) -> {a.csv}")
         else:
-            out = ce.snap_curve(a.T, a.h, a.lam, tol=a.tol, csv_path=a.csv, **opts)
-            print(f"{out['T'].size} caps, {int(out['snaps'].sum())} snap -> {a.csv}")
+            return _sweep(a, ce, opts)
     except ValueError as exc:
         p.exit(2, f"shellbvp: error: {exc}\n")
     except ConvergenceError as exc:

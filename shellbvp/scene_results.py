@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-__all__ = ["SnapResult", "Onset", "PressureResult"]
+__all__ = ["SnapResult", "Onset", "PressureResult", "SnapCurve"]
 
 
 @dataclass(frozen=True)
@@ -118,3 +118,45 @@ class PressureResult:
     @property
     def w_apex_over_H(self) -> float:
         return self.w_apex / (1.0 - math.cos(self.theta))
+
+
+@dataclass(frozen=True)
+class SnapCurve:
+    """kappa_s against the shallowness T, one record per cap (a sweep,
+    :func:`shellbvp.problems.cap_eversion.snap_curve`).
+
+    Attributes:
+        records: per cap, in sweep order, a :class:`shellbvp.sweep.Record`: ``key`` = T,
+            ``status`` ("ok", "no snap" or "failed"), ``reason`` (why it failed, one line)
+            and ``values`` (theta, kappa_s, w_s, error_estimate, snaps, along_fold_curve).
+        complete: every cap of the sweep is here.
+
+    ``curve[name]`` is a column as an array: ``"T"``, ``"status"``, ``"reason"`` or one of
+    the values (kappa_s = nan where the cap does not snap or failed).
+    """
+
+    records: tuple
+    complete: bool = True
+
+    def __getitem__(self, name: str):
+        import numpy as np
+
+        if name == "T":
+            return np.array([r.key for r in self.records])
+        if name in ("status", "reason"):
+            return np.array([getattr(r, name) for r in self.records], dtype=object)
+        if not self.records or name not in self.records[0].values:
+            raise KeyError(name)
+        return np.array([r.values[name] for r in self.records])
+
+    def counts(self) -> dict:
+        """How many caps ended in each status."""
+        out = {"ok": 0, "no snap": 0, "failed": 0}
+        for r in self.records:
+            out[r.status] += 1
+        return out
+
+    def __repr__(self) -> str:
+        c = self.counts()
+        return (f"SnapCurve({len(self.records)} caps: {c['ok']} snap, {c['no snap']} no snap, "
+                f"{c['failed']} failed{'' if self.complete else ', incomplete'})")

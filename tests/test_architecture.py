@@ -84,7 +84,9 @@ def test_no_private_names_from_sibling_modules():
 #: the lower tiers a scene may use besides ``shellbvp`` itself (named in its docstring)
 LOWER_TIERS = {"shellbvp.methods": ("bracketing_nodes", "default_nodes"),
                "shellbvp.cache": ("atomic_write_text",),
-               "shellbvp.series": ("stationary_series",)}
+               "shellbvp.series": ("stationary_series",),
+               "shellbvp.sweep": ("CHUNK_SIZE", "Chunk", "Journal", "Record", "SweepInterrupted",
+                                  "one_line", "run")}
 
 
 def test_scenes_use_only_the_public_api():

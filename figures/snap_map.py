@@ -1,0 +1,139 @@
+"""A map of the snap curvature over shallowness and material: kappa_s R0 against
+T = Theta sqrt(R0/h0) in [2, 10] and lam = lambda*/mu* in [1e-2, 1e2] (log-spaced), relaxed
+Ciarlet-Geymonat, h0/R0 = 0.01, every cap at tol 1e-9, coloured by kappa_s / kappa_s of the
+morphoelastic Koiter shell (nu = 1/2) at the same T; the caps that do not snap (grey) and the
+onset line (the first snapping T of each lam, to the map's resolution in T) drawn over it.
+
+Each lam is one ``snap_curve`` sweep (chunks of consecutive caps, each following its fold
+curve); the sweeps run on ``--jobs`` local processes. Also times the Fig. 3 set (lam in
+{0.01, 0.1, 1, 10}, T = 2:0.25:10, tol 1e-10, 132 caps) serially and on the processes, and
+the map itself both ways (``--serial`` adds the serial map): wall time of the sweeps, after a
+warm-up, on a pool whose start-up (spawn, import, compiled programs loaded from disk) is
+timed apart. Writes snap_map.png, snap_map.csv (every cap: lam, T, status, kappa_s, its
+estimate, the Koiter kappa_s) and snap_map_timing.csv.
+
+    python figures/snap_map.py [--quick] [--jobs 2] [--serial]
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from _common import finish, parser, pyplot, write_csv
+from shellbvp.problems import cap_eversion as ce
+from shellbvp.sweep import local_executor
+
+H = 0.01
+FIG3_LAMS = (0.01, 0.1, 1.0, 10.0)
+
+
+def sweeps(lams, T, *, tol, executor=None, material="cg"):
+    """One snap_curve per lam, in order; with an ``executor``, the sweeps are handed to it
+    together (one thread each submits its chunks), so that its workers share all of them."""
+    def one(lam):
+        return ce.snap_curve(T, H, lam, material=material, tol=tol, progress=False,
+                             executor=executor)
+
+    if executor is None:
+        return [one(lam) for lam in lams]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=len(lams)) as fan:
+        return list(fan.map(one, lams))
+
+
+def _warm(_):
+    """A worker's first cap: imports and loads the compiled programs."""
+    ce.snap_curvature(0.5, H, 1.0, tol=1e-6)
+    return True
+
+
+def timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - t0
+
+
+def main(argv=None):
+    p = parser(__doc__.splitlines()[0])
+    p.add_argument("--jobs", type=int, default=2, help="local processes (default 2)")
+    p.add_argument("--serial", action="store_true", help="also time the map serially")
+    a = p.parse_args(argv)
+    T = np.round(np.arange(2.0, 10.0001, 0.5 if a.quick else 0.1), 10)
+    lams = np.logspace(-2, 2, 5 if a.quick else 25)
+    T3 = np.round(np.arange(2.0, 10.0001, 1.0 if a.quick else 0.25), 10)
+
+    sweeps([1.0], T3[:3], tol=1e-10)                          # compile this process
+    pool, t_pool = timed(lambda: local_executor(a.jobs))
+    _, t_warm = timed(lambda: list(pool.map(_warm, range(a.jobs))))
+    timing = [("pool start-up (spawn, import, programs from disk)", a.jobs, t_pool + t_warm)]
+    fig3_serial, t3s = timed(lambda: sweeps(FIG3_LAMS, T3, tol=1e-10))
+    fig3_par, t3p = timed(lambda: sweeps(FIG3_LAMS, T3, tol=1e-10, executor=pool))
+    same3 = all(x.records == y.records for x, y in zip(fig3_serial, fig3_par))
+    n3 = len(FIG3_LAMS) * T3.size
+    timing += [(f"Fig. 3 set ({n3} caps), serial", 1, t3s),
+               (f"Fig. 3 set ({n3} caps), {a.jobs} processes", a.jobs, t3p)]
+
+    koiter, _ = timed(lambda: sweeps([1.0], T, tol=1e-9, material="koiter", executor=pool))
+    k_koiter = koiter[0]["kappa_s"]
+    curves, t_map = timed(lambda: sweeps(lams, T, tol=1e-9, executor=pool))
+    n = lams.size * T.size
+    timing.append((f"map ({n} caps), {a.jobs} processes", a.jobs, t_map))
+    if a.serial:
+        serial, t_ser = timed(lambda: sweeps(lams, T, tol=1e-9))
+        timing.append((f"map ({n} caps), serial", 1, t_ser))
+        assert all(x.records == y.records for x, y in zip(serial, curves)), \
+            "the serial map differs from the parallel one"
+    pool.shutdown()
+
+    rows, K, status = [], np.full((lams.size, T.size), np.nan), np.zeros((lams.size, T.size))
+    for i, (lam, c) in enumerate(zip(lams, curves)):
+        for j, r in enumerate(c.records):
+            v = r.values
+            rows.append([lam, r.key, r.status, v["kappa_s"], v["error_estimate"], k_koiter[j],
+                         r.reason])
+            K[i, j] = v["kappa_s"] / k_koiter[j]
+            status[i, j] = {"ok": 0, "no snap": 1, "failed": 2}[r.status]
+    write_csv(a.out / "snap_map.csv", ["lam", "T", "status", "kappa_s_R0", "kappa_s_error",
+                                       "kappa_s_koiter_R0", "reason"], rows)
+    write_csv(a.out / "snap_map_timing.csv", ["what", "processes", "wall_time_s"], timing)
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.4))
+    dT = T[1] - T[0]
+    edges_T = np.append(T - dT / 2, T[-1] + dT / 2)
+    lg = np.log10(lams)
+    dl = lg[1] - lg[0]
+    edges_l = 10 ** np.append(lg - dl / 2, lg[-1] + dl / 2)
+    mesh = ax.pcolormesh(edges_T, edges_l, np.ma.masked_invalid(K), cmap="viridis",
+                         shading="flat")
+    fig.colorbar(mesh, ax=ax, label=r"$\kappa_s / \kappa_s^{\rm Koiter}$")
+    grey = np.ma.masked_where(status != 1, status)
+    ax.pcolormesh(edges_T, edges_l, grey, cmap="Greys", vmin=0, vmax=2, shading="flat")
+    onset = []
+    for i in range(lams.size):
+        snaps = np.flatnonzero(status[i] == 0)
+        onset.append(T[snaps[0]] - dT / 2 if snaps.size else np.nan)
+    ax.plot(onset, lams, "w-", lw=1.5, label="onset of snapping (to the grid in T)")
+    bad = np.argwhere(status == 2)
+    if bad.size:
+        ax.plot(T[bad[:, 1]], lams[bad[:, 0]], "rx", ms=5, label="failed cap")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"$T = \Theta \sqrt{R_0 / h_0}$")
+    ax.set_ylabel(r"$\lambda^* / \mu^*$")
+    ax.set_title(f"snap curvature, relaxed CG, h0/R0 = {H:g}, {n} caps (grey: no snap)",
+                 fontsize=9)
+    ax.legend(fontsize=8, loc="upper right")
+    finish(fig, a.out, "snap_map")
+    for what, procs, t in timing:
+        print(f"{what}: {t:.2f} s")
+    print(f"Fig. 3 set: {a.jobs} processes / serial = {t3p / t3s:.2f}; values "
+          f"{'identical' if same3 else 'DIFFER'}")
+    counts = {s: int(np.sum(status == k)) for k, s in enumerate(("ok", "no snap", "failed"))}
+    print(f"map: {counts}")
+
+
+if __name__ == "__main__":
+    main()
