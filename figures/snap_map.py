@@ -71,7 +71,7 @@ def main(argv=None):
     timing = [("pool start-up (spawn, import, programs from disk)", a.jobs, t_pool + t_warm)]
     fig3_serial, t3s = timed(lambda: sweeps(FIG3_LAMS, T3, tol=1e-10))
     fig3_par, t3p = timed(lambda: sweeps(FIG3_LAMS, T3, tol=1e-10, executor=pool))
-    same3 = all(x.records == y.records for x, y in zip(fig3_serial, fig3_par))
+    same3 = all(repr(x.records) == repr(y.records) for x, y in zip(fig3_serial, fig3_par))
     n3 = len(FIG3_LAMS) * T3.size
     timing += [(f"Fig. 3 set ({n3} caps), serial", 1, t3s),
                (f"Fig. 3 set ({n3} caps), {a.jobs} processes", a.jobs, t3p)]
@@ -84,7 +84,7 @@ def main(argv=None):
     if a.serial:
         serial, t_ser = timed(lambda: sweeps(lams, T, tol=1e-9))
         timing.append((f"map ({n} caps), serial", 1, t_ser))
-        assert all(x.records == y.records for x, y in zip(serial, curves)), \
+        assert all(repr(x.records) == repr(y.records) for x, y in zip(serial, curves)), \
             "the serial map differs from the parallel one"
     pool.shutdown()
 
