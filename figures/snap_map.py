@@ -8,8 +8,8 @@ Each lam is one ``snap_curve`` sweep (chunks of consecutive caps, each following
 curve); the sweeps run on ``--jobs`` local processes. Also times the Fig. 3 set (lam in
 {0.01, 0.1, 1, 10}, T = 2:0.25:10, tol 1e-10, 132 caps) serially and on the processes, and
 the map itself both ways (``--serial`` adds the serial map): wall time of the sweeps, after a
-warm-up, on a pool whose start-up (spawn, import, compiled programs loaded from disk) is
-timed apart. Writes snap_map.png, snap_map.csv (every cap: lam, T, status, kappa_s, its
+warm-up of every process (JAX's compilation cache on, as for the command line), on a pool
+whose start-up (spawn, import, programs loaded from disk, the warm-up) is timed apart. Writes snap_map.png, snap_map.csv (every cap: lam, T, status, kappa_s, its
 estimate, the Koiter kappa_s) and snap_map_timing.csv.
 
     python figures/snap_map.py [--quick] [--jobs 2] [--serial]
@@ -23,6 +23,7 @@ import numpy as np
 
 from _common import finish, parser, pyplot, write_csv
 from shellbvp.problems import cap_eversion as ce
+from shellbvp.jaxsetup import use_persistent_cache
 from shellbvp.sweep import local_executor
 
 H = 0.01
@@ -44,9 +45,15 @@ def sweeps(lams, T, *, tol, executor=None, material="cg"):
         return list(fan.map(one, lams))
 
 
-def _warm(_):
-    """A worker's first cap: imports and loads the compiled programs."""
-    ce.snap_curvature(0.5, H, 1.0, tol=1e-6)
+WARM_T = (2.0, 4.0, 6.0, 8.0, 10.0)
+
+
+def _warm(_=None):
+    """A process's first caps, at both tolerances: imports, and compiles (or loads from
+    JAX's cache) the programs of the degrees the sweeps use."""
+    for tol in (1e-10, 1e-9):
+        ce.snap_curve(WARM_T, H, 1.0, tol=tol, progress=False)
+        ce.snap_curve(WARM_T, H, 1.0, tol=tol, progress=False, material="koiter")
     return True
 
 
@@ -65,7 +72,8 @@ def main(argv=None):
     lams = np.logspace(-2, 2, 5 if a.quick else 25)
     T3 = np.round(np.arange(2.0, 10.0001, 1.0 if a.quick else 0.25), 10)
 
-    sweeps([1.0], T3[:3], tol=1e-10)                          # compile this process
+    use_persistent_cache(default=True)    # as the command line: workers load, not compile
+    _warm()                                                   # compile this process
     pool, t_pool = timed(lambda: local_executor(a.jobs))
     _, t_warm = timed(lambda: list(pool.map(_warm, range(a.jobs))))
     timing = [("pool start-up (spawn, import, programs from disk)", a.jobs, t_pool + t_warm)]

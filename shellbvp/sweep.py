@@ -9,6 +9,13 @@ fold curve). The chunking depends on the items and ``chunk_size`` only, never on
 of workers, so a sweep gives the same records, value for value, serially, on two processes
 or on a cluster.
 
+Every task computes with BLAS on one thread (and local workers with XLA on one thread):
+N workers on N cores with the libraries' thread pools each were 6x slower per item, and the
+factorisations round differently with the number of threads. So serial, two local processes
+and a Dask cluster give the same values to the last bit (tested); a sweep's kappa_s may
+differ from a ``snap_curvature`` call outside a sweep (BLAS on its default threads) by
+round-off (~1e-15 relative).
+
 Durability: with a journal (a file beside the output), every finished item is appended as
 one JSON line, flushed and fsync'd by whoever finished it (the worker, so a kill of the
 parent loses no finished item; O_APPEND writes of one line are atomic). ``resume`` reads
@@ -23,6 +30,7 @@ import json
 import math
 import os
 import signal
+import threading
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
@@ -148,11 +156,23 @@ class SweepInterrupted(KeyboardInterrupt):
         self.records, self.total = records, total
 
 
+#: a local worker's XLA computes on one thread (XLA reads its flags when it starts: this is
+#: the environment a worker is started with); BLAS runs on one thread in every task
+#: (:func:`_one_thread`). Two workers on two cores with their libraries' own thread pools
+#: (whose threads spin while they wait) took 6x longer per cap than one process alone
+WORKER_ENVIRONMENT = {"XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false"}
+
+
 def _worker_start(jax_cache: bool):
     # workers leave Ctrl-C to the parent, which stops the sweep and writes what it has
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if jax_cache:   # as the parent: compiled programs from disk, not compiled again
         os.environ["SHELLBVP_JAX_CACHE"] = "on"
+        # the spawned worker may have imported the package already (with the main module
+        # it re-imports), before this initializer: turn the cache on now
+        from .jaxsetup import use_persistent_cache
+
+        use_persistent_cache(default=True)
 
 
 def local_executor(jobs: int) -> Executor:
@@ -165,8 +185,47 @@ def local_executor(jobs: int) -> Executor:
 
     jax = sys.modules.get("jax")
     cache = bool(jax is not None and getattr(jax.config, "jax_compilation_cache_dir", None))
-    return ProcessPoolExecutor(max_workers=jobs, initializer=_worker_start, initargs=(cache,),
+    pool = ProcessPoolExecutor(max_workers=jobs, initializer=_worker_start, initargs=(cache,),
                                mp_context=multiprocessing.get_context("spawn"))
+    # start every worker now, with WORKER_ENVIRONMENT (a spawned process takes this
+    # process's environment when it starts; a pool starts a worker on a submit that finds
+    # none idle): this process's environment is restored at once
+    saved = {k: os.environ.get(k) for k in WORKER_ENVIRONMENT}
+    with _ENVIRONMENT_LOCK:
+        try:
+            os.environ.update(WORKER_ENVIRONMENT)
+            started = [pool.submit(_started) for _ in range(jobs)]
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+    for f in started:
+        f.result()
+    return pool
+
+
+def _started() -> bool:
+    return True
+
+
+def _one_thread(task, chunk):
+    """``task(chunk)`` with BLAS on one thread, wherever it runs (this process, a local
+    worker, a cluster's): the LU factorisations round differently on one thread than on
+    two (kappa_s 11 ulp apart), so one thread everywhere makes the values independent of
+    who computes them. The BLAS libraries are loaded first (a library loaded inside the
+    limit would escape it: scipy's LAPACK loads on the first factorisation)."""
+    from threadpoolctl import threadpool_limits
+
+    import numpy  # noqa: F401
+    import scipy.linalg.lapack  # noqa: F401
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return task(chunk)
+
+
+_ENVIRONMENT_LOCK = threading.Lock()
 
 
 def run(keys: Sequence[float], task: Callable[[Chunk], list], spec: dict, *,
@@ -225,10 +284,10 @@ def run(keys: Sequence[float], task: Callable[[Chunk], list], spec: dict, *,
     try:
         if executor is None and jobs == 1:
             for c in todo:
-                collect(c, task(c))
+                collect(c, _one_thread(task, c))
         else:
             pool = executor if executor is not None else (own := local_executor(jobs))
-            futures = {pool.submit(task, c): c for c in todo}
+            futures = {pool.submit(_one_thread, task, c): c for c in todo}
             for fut in as_completed(futures):
                 collect(futures[fut], fut.result())
     except KeyboardInterrupt:
