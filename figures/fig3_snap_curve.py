@@ -91,7 +91,8 @@ def main(argv=None):
         print(f"onset {o[0]:>6s} lam = {o[1]:<5g}: T = {o[2]:.6f} +- {o[3]:.1e}")
     for material, lam, t, n in times:
         print(f"sweep {material:>6s} lam = {lam:<5g}: {t:.2f} s for {len(T_values)} caps "
-              f"({n} found along the fold curve; first sweep includes compilation)")
+              f"({n} found along the fold curve; first sweep includes compilation; with "
+              f"--jobs, wall time while the curves share the processes)")
     errs = [r[6] for r in rows if r[7]]
     print(f"{len(rows)} caps, {sum(r[7] for r in rows)} snap; largest kappa_s error estimate "
           f"{max(errs):.1e}")

@@ -1,5 +1,6 @@
 """A map of the snap curvature over shallowness and material: kappa_s R0 against
-T = Theta sqrt(R0/h0) in [2, 10] and lam = lambda*/mu* in [1e-2, 1e2] (log-spaced), relaxed
+T = Theta sqrt(R0/h0) in [1.5, 10] (from below the onset, so that the caps that do not snap
+show) and lam = lambda*/mu* in [1e-2, 1e2] (log-spaced), relaxed
 Ciarlet-Geymonat, h0/R0 = 0.01, every cap at tol 1e-9, coloured by kappa_s / kappa_s of the
 morphoelastic Koiter shell (nu = 1/2) at the same T; the caps that do not snap (grey) and the
 onset line (the first snapping T of each lam, to the map's resolution in T) drawn over it.
@@ -67,8 +68,12 @@ def main(argv=None):
     p = parser(__doc__.splitlines()[0])
     p.add_argument("--jobs", type=int, default=2, help="local processes (default 2)")
     p.add_argument("--serial", action="store_true", help="also time the map serially")
+    p.add_argument("--plot-only", action="store_true", help="redraw from snap_map.csv")
     a = p.parse_args(argv)
-    T = np.round(np.arange(2.0, 10.0001, 0.5 if a.quick else 0.1), 10)
+    if a.plot_only:
+        plot(a.out)
+        return
+    T = np.round(np.arange(1.5, 10.0001, 0.5 if a.quick else 0.1), 10)
     lams = np.logspace(-2, 2, 5 if a.quick else 25)
     T3 = np.round(np.arange(2.0, 10.0001, 1.0 if a.quick else 0.25), 10)
 
@@ -96,18 +101,40 @@ def main(argv=None):
             "the serial map differs from the parallel one"
     pool.shutdown()
 
-    rows, K, status = [], np.full((lams.size, T.size), np.nan), np.zeros((lams.size, T.size))
-    for i, (lam, c) in enumerate(zip(lams, curves)):
+    rows = []
+    for lam, c in zip(lams, curves):
         for j, r in enumerate(c.records):
             v = r.values
             rows.append([lam, r.key, r.status, v["kappa_s"], v["error_estimate"], k_koiter[j],
                          r.reason])
-            K[i, j] = v["kappa_s"] / k_koiter[j]
-            status[i, j] = {"ok": 0, "no snap": 1, "failed": 2}[r.status]
     write_csv(a.out / "snap_map.csv", ["lam", "T", "status", "kappa_s_R0", "kappa_s_error",
                                        "kappa_s_koiter_R0", "reason"], rows)
     write_csv(a.out / "snap_map_timing.csv", ["what", "processes", "wall_time_s"], timing)
+    status = plot(a.out)
+    for what, procs, t in timing:
+        print(f"{what}: {t:.2f} s")
+    print(f"Fig. 3 set: {a.jobs} processes / serial = {t3p / t3s:.2f}; values "
+          f"{'identical' if same3 else 'DIFFER'}")
+    counts = {s: int(np.sum(status == k)) for k, s in enumerate(("ok", "no snap", "failed"))}
+    print(f"map: {counts}")
 
+
+def plot(out):
+    """Draw snap_map.png from snap_map.csv (``--plot-only`` redraws without computing)."""
+    import csv
+
+    from matplotlib.colors import ListedColormap
+
+    with open(out / "snap_map.csv") as f:
+        rows = list(csv.DictReader(f))
+    lams = np.array(sorted({float(r["lam"]) for r in rows}))
+    T = np.array(sorted({float(r["T"]) for r in rows}))
+    K = np.full((lams.size, T.size), np.nan)
+    status = np.zeros((lams.size, T.size))
+    for r in rows:
+        i, j = np.searchsorted(lams, float(r["lam"])), np.searchsorted(T, float(r["T"]))
+        K[i, j] = float(r["kappa_s_R0"]) / float(r["kappa_s_koiter_R0"])
+        status[i, j] = {"ok": 0, "no snap": 1, "failed": 2}[r["status"]]
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.4))
     dT = T[1] - T[0]
@@ -118,29 +145,26 @@ def main(argv=None):
     mesh = ax.pcolormesh(edges_T, edges_l, np.ma.masked_invalid(K), cmap="viridis",
                          shading="flat")
     fig.colorbar(mesh, ax=ax, label=r"$\kappa_s / \kappa_s^{\rm Koiter}$")
-    grey = np.ma.masked_where(status != 1, status)
-    ax.pcolormesh(edges_T, edges_l, grey, cmap="Greys", vmin=0, vmax=2, shading="flat")
+    # grey: no snap; light red: snaps where the Koiter shell does not (no ratio)
+    kind = np.where(status == 1, 0.0, np.where((status == 0) & np.isnan(K), 1.0, np.nan))
+    ax.pcolormesh(edges_T, edges_l, np.ma.masked_invalid(kind),
+                  cmap=ListedColormap(["0.6", "#f4a6a6"]), vmin=0, vmax=1, shading="flat")
     onset = []
     for i in range(lams.size):
         snaps = np.flatnonzero(status[i] == 0)
         onset.append(T[snaps[0]] - dT / 2 if snaps.size else np.nan)
-    ax.plot(onset, lams, "w-", lw=1.5, label="onset of snapping (to the grid in T)")
+    ax.plot(onset, lams, "r-", lw=1.5, label="onset of snapping (to the grid in T)")
     bad = np.argwhere(status == 2)
     if bad.size:
-        ax.plot(T[bad[:, 1]], lams[bad[:, 0]], "rx", ms=5, label="failed cap")
+        ax.plot(T[bad[:, 1]], lams[bad[:, 0]], "kx", ms=5, label="failed cap")
     ax.set_yscale("log")
     ax.set_xlabel(r"$T = \Theta \sqrt{R_0 / h_0}$")
     ax.set_ylabel(r"$\lambda^* / \mu^*$")
-    ax.set_title(f"snap curvature, relaxed CG, h0/R0 = {H:g}, {n} caps (grey: no snap)",
-                 fontsize=9)
-    ax.legend(fontsize=8, loc="upper right")
-    finish(fig, a.out, "snap_map")
-    for what, procs, t in timing:
-        print(f"{what}: {t:.2f} s")
-    print(f"Fig. 3 set: {a.jobs} processes / serial = {t3p / t3s:.2f}; values "
-          f"{'identical' if same3 else 'DIFFER'}")
-    counts = {s: int(np.sum(status == k)) for k, s in enumerate(("ok", "no snap", "failed"))}
-    print(f"map: {counts}")
+    ax.set_title(f"snap curvature, relaxed CG, h0/R0 = {H:g}, {len(rows)} caps (grey: no snap; "
+                 f"light red: snaps, the Koiter shell does not)", fontsize=8)
+    ax.legend(fontsize=8, loc="center right")
+    finish(fig, out, "snap_map")
+    return status
 
 
 if __name__ == "__main__":
