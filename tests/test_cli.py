@@ -57,17 +57,23 @@ def test_snap_command_prints_kappa_s(capsys):
 
 
 def test_sweep_command_csv_round_trip(tmp_path, capsys):
+    """The six columns as before, then status and reason; every number written exactly (as
+    the API's sweep returns it; a sweep computes with one BLAS thread, so a lone
+    snap_curvature agrees within its estimate, not necessarily to the bit)."""
     from shellbvp.problems import cap_eversion as ce
 
     out = tmp_path / "s.csv"
     assert cli.main(["sweep", "--T", "1.5:2.5:1", "--h", "0.01", "--csv", str(out)]) == 0
     rows = [line.split(",") for line in out.read_text().splitlines()]
-    assert rows[0] == ["T", "theta_rad", "kappa_s_R0", "w_s_over_R0", "kappa_s_error", "snaps"]
+    assert rows[0] == ["T", "theta_rad", "kappa_s_R0", "w_s_over_R0", "kappa_s_error", "snaps",
+                       "status", "reason"]
     (T1, *r1), (T2, *r2) = rows[1:]
-    assert float(T1) == 1.5 and r1[-1] == "0" and r1[1] == "nan"     # below the onset
-    assert float(T2) == 2.5 and r2[-1] == "1"
-    assert float(r2[1]) == ce.snap_curvature(0.25, 0.01).kappa_s       # exact round trip
-    assert "2 caps, 1 snap" in capsys.readouterr().out
+    assert float(T1) == 1.5 and r1[4:] == ["0", "no snap", ""] and r1[1] == "nan"  # below onset
+    assert float(T2) == 2.5 and r2[4:] == ["1", "ok", ""]
+    assert float(r2[1]) == ce.snap_curve([2.5], 0.01, progress=False)["kappa_s"][0]  # exact
+    alone = ce.snap_curvature(0.25, 0.01)
+    assert abs(float(r2[1]) - alone.kappa_s) <= float(r2[3]) + alone.error_estimate
+    assert "2 caps: 1 snap, 1 no snap, 0 failed" in capsys.readouterr().out
 
 
 def test_bad_tol_exits_2(capsys):
