@@ -15,6 +15,8 @@ maximum of kappa along the branch; shallow caps evert without a fold.
 
 from __future__ import annotations
 
+import csv
+import io
 import math
 import os
 from dataclasses import replace
@@ -67,7 +69,7 @@ def _fold_options(options, tol, default):
         return default.with_(fold_tol=TOL if tol is None else tol)
     if tol is None:
         return options
-    return options.with_fold_tol(tol, given=True)
+    return options.with_fold_tol(tol)
 
 
 def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_max=None,
@@ -150,7 +152,6 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
 #: is ok / no snap / failed, reason the error of a failed cap in one line)
 CURVE_COLUMNS = ("T", "theta_rad", "kappa_s_R0", "w_s_over_R0", "kappa_s_error", "snaps",
                  "status", "reason")
-_VALUES = ("theta", "kappa_s", "w_s", "error_estimate", "snaps", "along_fold_curve")
 
 
 def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, tol=1e-9,
@@ -226,22 +227,16 @@ def snap_curve(T_values, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, 
 
 
 def _write_curve(path, records, trailer=""):
-    lines = [",".join(CURVE_COLUMNS)]
+    """The sweep's CSV (``CURVE_COLUMNS``, numbers as repr: exact round trip), atomically;
+    ``trailer``: a last line (the mark of an incomplete sweep)."""
+    buf = io.StringIO()
+    wr = csv.writer(buf, lineterminator="\n")
+    wr.writerow(CURVE_COLUMNS)
     for r in records:
         v = r.values
-        lines.append(",".join([repr(r.key), repr(v["theta"]), repr(v["kappa_s"]),
-                               repr(v["w_s"]), repr(v["error_estimate"]),
-                               str(int(v["snaps"])), r.status, _csv_text(r.reason)]))
-    if trailer:
-        lines.append(trailer)
-    atomic_write_text(path, "\n".join(lines) + "\n")
-
-
-def _csv_text(text: str) -> str:
-    """A reason as one CSV field (quoted where it holds commas or quotes)."""
-    if any(c in text for c in ',"\n'):
-        return '"' + text.replace('"', '""').replace("\n", " ") + '"'
-    return text
+        wr.writerow([repr(r.key), repr(v["theta"]), repr(v["kappa_s"]), repr(v["w_s"]),
+                     repr(v["error_estimate"]), int(v["snaps"]), r.status, r.reason])
+    atomic_write_text(path, buf.getvalue() + (trailer + "\n" if trailer else ""))
 
 
 def _sweep_chunk(chunk: Chunk) -> list:

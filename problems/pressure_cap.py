@@ -153,8 +153,8 @@ def branch(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     sc = scene(lambda_B, R_over_t, nu, material=material, lam=lam, model=model)
     c = pressure_scale(sc.h, nu, material=material, lam=lam)
     H = 1.0 - math.cos(sc.theta)
-    options = (_options(DS_MAX) if options is None
-               else options).with_fold_tol(tol * c, given=options is not None, scale=c)
+    options = _options(DS_MAX).with_(fold_tol=tol * c) if options is None \
+        else options.with_fold_tol(tol * c, scale=c)
     b = shellbvp.follow(sc, method=method, p0=0.0, n_folds=n_folds,
                         w_stop=(-W_STOP_RISES * H, math.inf), options=options)
     if csv_path is not None:

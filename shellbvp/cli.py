@@ -21,6 +21,8 @@ import sys
 
 import numpy as np
 
+from .sweep import CHUNK_SIZE
+
 
 def _range(text):
     try:
@@ -60,9 +62,9 @@ def _sweep(a, ce, opts) -> int:
 
     previous = signal.signal(signal.SIGTERM, stop)
     try:
-        chunk = {} if a.chunk_size is None else {"chunk_size": a.chunk_size}
         curve = ce.snap_curve(a.T, a.h, a.lam, tol=a.tol, csv_path=a.csv, jobs=a.jobs,
-                              resume=a.resume, progress=sys.stderr.isatty(), **chunk, **opts)
+                              resume=a.resume, chunk_size=a.chunk_size,
+                              progress=sys.stderr.isatty(), **opts)
     except SweepInterrupted as exc:
         print(f"shellbvp: interrupted after {len(exc.records)} of {exc.total} caps; results "
               f"so far in {a.csv}; --resume continues", file=sys.stderr)
@@ -108,8 +110,9 @@ def parser():
     w.add_argument("--csv", required=True, help="output CSV file")
     w.add_argument("--jobs", type=int, default=1,
                    help="local processes (default 1); the values do not depend on it")
-    w.add_argument("--chunk-size", type=int, default=None,
-                   help="caps per chunk, each following its own fold curve (default 12)")
+    w.add_argument("--chunk-size", type=int, default=CHUNK_SIZE,
+                   help=f"caps per chunk, each following its own fold curve (default "
+                        f"{CHUNK_SIZE})")
     w.add_argument("--resume", action="store_true",
                    help="continue an interrupted sweep from its journal (CSV.journal)")
     return p

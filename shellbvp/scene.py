@@ -15,6 +15,7 @@ Euler-Lagrange equations without g terms.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Callable
@@ -22,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from . import checks
-from .models import MATERIALS, MODELS, material_parameter
+from .models import MATERIAL_PARAMETER, MATERIALS, MODELS, material_parameter
 
 __all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
 
@@ -33,8 +34,6 @@ THETA_MIN = 1e-3
 H_MIN = 1e-6
 #: largest lambda*/mu*: lam = 1e8 is Poisson ratio 0.5 - 5e-9
 LAM_MAX = 1e8
-#: the defaults of the material-dependent fields, which mean "absent" where unused
-SCENE_DEFAULTS = {"lam": 1.0, "nu": 0.5, "model": "relaxed"}
 #: what each material uses (for the error of a parameter it does not)
 USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parameter, and "
         "J = 1 fixes the through-thickness stretch, so there is no model choice",
@@ -130,8 +129,9 @@ class Scene:
         checks.check_choice("material", self.material, MATERIALS)
         # a parameter the material does not use must stay at its default (absent): a value
         # that changes nothing is refused rather than silently ignored
-        unused = {"cg": ("nu",), "nh": ("lam", "nu", "model"),
-                  "koiter": ("lam", "model")}[self.material]
+        used = MATERIAL_PARAMETER[self.material]
+        unused = [n for n in ("lam", "nu") if n != used] + \
+            ([] if self.material == "cg" else ["model"])     # only the reduction has models
         for name in unused:
             if getattr(self, name) != SCENE_DEFAULTS[name]:
                 raise ValueError(f"{name} = {getattr(self, name)!r} does not apply to material="
@@ -202,3 +202,9 @@ class Scene:
         if np.any(F[0] <= 0) or np.any(F[1] <= 0):
             raise ValueError("stimulus fields g1, g2 must be > 0")
         raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")
+
+
+#: the defaults of the material-dependent fields (Scene's own), which mean "absent" where a
+#: material does not use them
+SCENE_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Scene)
+                  if f.name in ("lam", "nu", "model")}

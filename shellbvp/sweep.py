@@ -27,7 +27,6 @@ values are kept), so the final records are those of an uninterrupted run.
 from __future__ import annotations
 
 import json
-import math
 import os
 import signal
 import threading
@@ -266,13 +265,12 @@ def run(keys: Sequence[float], task: Callable[[Chunk], list], spec: dict, *,
     chunks = [Chunk(i, tuple(keys[i:i + chunk_size]), spec, journal,
                     frozenset(j for j in range(i, i + chunk_size) if j in done))
               for i in range(0, len(keys), chunk_size)]
-    todo = [c for c in chunks
-            if not all(c.first + j in done for j in range(len(c.keys)))]
+    todo = [c for c in chunks if len(c.journaled) < len(c.keys)]
     tick = progress or (lambda n: None)
-    tick(sum(len(c.keys) for c in chunks if c not in todo))
+    tick(sum(len(c.keys) for c in chunks if len(c.journaled) == len(c.keys)))
     results: dict[int, Record] = dict(done)
 
-    def collect(chunk, records):
+    def collect(records):
         new = 0
         for r in records:
             if r.index not in results:
@@ -284,12 +282,12 @@ def run(keys: Sequence[float], task: Callable[[Chunk], list], spec: dict, *,
     try:
         if executor is None and jobs == 1:
             for c in todo:
-                collect(c, _one_thread(task, c))
+                collect(_one_thread(task, c))
         else:
             pool = executor if executor is not None else (own := local_executor(jobs))
-            futures = {pool.submit(_one_thread, task, c): c for c in todo}
+            futures = [pool.submit(_one_thread, task, c) for c in todo]
             for fut in as_completed(futures):
-                collect(futures[fut], fut.result())
+                collect(fut.result())
     except KeyboardInterrupt:
         if journal is not None:     # what workers finished and journaled counts too
             results.update({i: r for i, r in Journal(journal).start(
@@ -299,8 +297,3 @@ def run(keys: Sequence[float], task: Callable[[Chunk], list], spec: dict, *,
         if own is not None:
             own.shutdown(wait=False, cancel_futures=True)
     return [results[i] for i in range(len(keys))]
-
-
-def nan_values(names) -> dict:
-    """Values of an item that produced none (a failed cap)."""
-    return {n: math.nan for n in names}

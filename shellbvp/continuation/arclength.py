@@ -83,7 +83,8 @@ def _fold_ahead(a: Point, b: Point, reach: float):
 def _probe(system, b: Point, target: float, o: ContinuationOptions):
     """The branch point past b where the monitor equals ``target`` (Newton with the monitor
     prescribed, from b's tangent), or None where that fails."""
-    res = newton(system, *b.predicted(target), 1.0, 0.0, target, tol=o.newton_tol, maxiter=o.newton_maxiter, predict=o.predicted_stop)
+    res = newton(system, *b.predicted(target), 1.0, 0.0, target, tol=o.newton_tol,
+                 maxiter=o.newton_maxiter, predict=o.predicted_stop)
     return res if res.ok else None
 
 

@@ -155,7 +155,6 @@ class _Factor:
     """LU of the bordered matrix, dense or sparse."""
 
     def __init__(self, A):
-        _getrf, _getrs = _lapack()
         if is_sparse(A):
             import scipy.sparse.linalg as spla
 
@@ -170,6 +169,7 @@ class _Factor:
             # A^T is Fortran-ordered and factors with no copy (scipy's lu_factor would copy
             # it twice and check it, a tenth of a small system's factorisation); A x = b is
             # then A^T's transposed solve
+            _getrf, _getrs = _lapack()
             lu, piv, info = _getrf(A.T, overwrite_a=True)
             if info > 0:
                 raise np.linalg.LinAlgError(f"exactly singular: U[{info - 1}, {info - 1}] = 0")

@@ -93,13 +93,13 @@ class ContinuationOptions:
     def with_(self, **changes) -> "ContinuationOptions":
         return replace(self, **changes)
 
-    def with_fold_tol(self, fold_tol: float, *, given: bool, name: str = "tol",
+    def with_fold_tol(self, fold_tol: float, *, name: str = "tol",
                       scale: float = 1.0) -> "ContinuationOptions":
-        """These options with ``fold_tol`` set from a scene's tolerance ``name`` (``fold_tol``
-        = that tolerance times ``scale``, its unit in the scene's parameter). ``given``:
-        whether these options were passed by the caller: then they may not set a fold_tol of
-        their own that differs (one concept, one place: a ValueError says which to use)."""
-        if given and self.fold_tol != ContinuationOptions.fold_tol and \
+        """These options, passed by a caller, with ``fold_tol`` set from a scene's tolerance
+        ``name`` (``fold_tol`` = that tolerance times ``scale``, its unit in the scene's
+        parameter): they may not set a fold_tol of their own that differs (one concept, one
+        place: a ValueError says which to use)."""
+        if self.fold_tol != ContinuationOptions.fold_tol and \
                 not math.isclose(self.fold_tol, fold_tol, rel_tol=1e-12):
             raise ValueError(f"the fold tolerance was given twice: {name}={fold_tol / scale!r} "
                              f"and options.fold_tol={self.fold_tol!r}; give it as {name} only")

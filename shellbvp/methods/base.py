@@ -197,6 +197,9 @@ class NodalSystem:
     """
 
     def __init__(self, bvp, t):
+        if not implements(bvp, NodalBVP):
+            raise ValueError(f"a nodal discretisation needs a BVP with n, P, lengths, s_of, rhs, "
+                             f"boundary and monitor, got {type(bvp).__name__}")
         self.bvp = bvp
         self.n = n = bvp.n
         self.t = np.asarray(t, dtype=float)
@@ -207,9 +210,6 @@ class NodalSystem:
         self.evaluations = 0
         self._hint = None       # warm start of the BVP's inner solve (cost only)
         self._monitor = None    # (U, monitor at U) of the last evaluation
-        if not implements(bvp, NodalBVP):
-            raise ValueError(f"a nodal discretisation needs a BVP with n, P, lengths, s_of, rhs, "
-                             f"boundary and monitor, got {type(bvp).__name__}")
         #: the BVP's capabilities beyond the nodal ones, decided once
         self._shell = implements(bvp, ShellProblem)
 
