@@ -10,7 +10,7 @@ Problem
     Scene, uniform_curvature (scenes as data)
 Methods (discretisations behind one protocol, :mod:`shellbvp.methods`)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
-    as_method
+    Ritz (direct minimisation of the discrete energy), as_method
 Solving and continuation
     solve, follow, at_monitor, fold_near, fold_curve_point, fold_gradient,
     ContinuationOptions
@@ -41,7 +41,7 @@ from .driver import (FoldCurvePoint, MonitorPoint, at_monitor, fold_curve_point,
                      fold_near, follow, solve)
 from .energy import EnergyTerms, energy_density, energy_terms
 from .errors import ConvergenceError
-from .methods import Chebyshev, Collocation, Shooting, as_method
+from .methods import Chebyshev, Collocation, Ritz, Shooting, as_method
 from .models import MATERIALS, MODELS
 from .results import Branch, Equilibrium, Fold
 from .scene import Scene, uniform_curvature
@@ -56,7 +56,7 @@ except PackageNotFoundError:        # a source tree that is not installed
 __all__ = [
     "energy_density", "energy_terms", "EnergyTerms", "MODELS", "MATERIALS",
     "Scene", "uniform_curvature",
-    "Chebyshev", "Shooting", "Collocation", "as_method",
+    "Chebyshev", "Shooting", "Collocation", "Ritz", "as_method",
     "solve", "follow", "at_monitor", "fold_near", "fold_curve_point", "fold_gradient",
     "ContinuationOptions",
     "second_variation",

@@ -17,7 +17,7 @@ from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fo
 from .errors import ConvergenceError
 from .models import MATERIAL_PARAMETER
 from .methods import Collocation, as_method
-from .methods.base import DirectSolver, SecondOrder, Transplantable, implements
+from .methods.base import DirectSolver, MidSurface, SecondOrder, Transplantable, implements
 from .ellipticity import elliptic_point, stall_reason
 from .results import Branch, Equilibrium, Fold, equilibrium_from, failed_equilibrium
 from .scene import Scene
@@ -140,7 +140,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
            p_stop=(-math.inf, math.inf), w_stop=(-math.inf, math.inf), n_folds=None,
            options: ContinuationOptions | None = None, eps: float | None = None,
            progress=None, energies: bool = True, on_stall: str = "raise",
-           check_ellipticity: bool = False) -> Branch:
+           check_ellipticity: bool = False, check_stability: bool = False) -> Branch:
     """Continue ``scene`` in its parameter from the undeformed state at p0.
 
     Pseudo-arclength continuation (:mod:`shellbvp.continuation`) of the method's discrete
@@ -159,6 +159,11 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     first point where it fails anywhere on the meridian: past it the energy is not elliptic,
     the equations admit solutions that depend on the discretisation, and the branch would
     no longer be physics (a crease forms below the resolution).
+    ``check_stability=True`` (a method that discretises the mid-surface, such as
+    :class:`shellbvp.Ritz`) ends the branch before the first point where the Hessian of its
+    discrete energy at fixed parameter is not positive definite
+    (:func:`shellbvp.stability.stable_point`): the loss of stability of the axisymmetric
+    state, or, where the reduced energy is not elliptic, of the model itself.
     """
     if on_stall not in ("raise", "stop"):
         raise ValueError(f"on_stall must be 'raise' or 'stop', got {on_stall!r}")
@@ -174,12 +179,26 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     system = method.discretise(bvp)
     H = bvp.rise
     stop = ""
+    surface = implements(system, MidSurface)
+    if check_stability and not surface:
+        raise ValueError(f"check_stability needs a method that discretises the mid-surface "
+                         f"(shellbvp.Ritz), got {method.name!r}")
+    checks = []
+    if check_ellipticity:
+        checks.append(lambda pt: elliptic_point(system, pt))
+    if check_stability:
+        from .stability import stable_point
+
+        checks.append(lambda pt: stable_point(system, pt))
+
+    def admissible(pt):
+        return next((why for why in (c(pt) for c in checks) if why), "")
+
     try:
         pts, brackets = pseudo_arclength(
             system, system.from_profile(bvp.reference), float(p0), options=options,
             p_stop=p_stop, monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds,
-            progress=progress,
-            admissible=(lambda pt: elliptic_point(system, pt)) if check_ellipticity else None)
+            progress=progress, admissible=admissible if checks else None)
     except ConvergenceError as exc:
         if exc.round_off and scene.material == "cg" and scene.lam > 1e3:
             raise ConvergenceError(f"lam = {scene.lam:g} is beyond what double precision "
@@ -211,7 +230,8 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
             break
     folds = tuple(folds)
     if energies:
-        E = np.array([bvp.energies(system.dense(pt.U, pt.p), pt.p) for pt in pts])
+        E = np.array([system.energies(pt.U, pt.p) if surface else
+                      bvp.energies(system.dense(pt.U, pt.p), pt.p) for pt in pts])
     else:
         E = np.full((len(pts), 3), math.nan)
     return Branch(scene=scene, p=np.array([pt.p for pt in pts]),

@@ -71,6 +71,13 @@ LEGENDRE_LOST = 0.02
 def legendre_along(system, U, p):
     """(min over the nodes of the Legendre condition, s where): see
     :func:`ellipticity`."""
+    from .methods.base import MidSurface, implements
+
+    if implements(system, MidSurface):          # the state read from the mid-surface
+        st = system.state_at(U, p, system.output_points())
+        leg, _, _ = ellipticity(st["X"].T, st["gw"], st["Hw"], system.scene.h)
+        j = int(np.argmin(leg))
+        return float(leg[j]), float(st["s"][j])
     bvp = system.bvp
     t, Ys = system.nodes(U, p)
     s_all = np.stack([bvp.s_of(i, t) for i in range(bvp.P)])
@@ -98,8 +105,11 @@ def elliptic_point(system, pt) -> str:
 def stall_reason(system, pts, message) -> str:
     """The reason of a continuation stall: a loss of ellipticity of the reduced energy when
     the Legendre condition falls to ~0 along the branch (then no formulation in the
-    meridian's derivatives has a smooth solution beyond), else the solver's message."""
-    if len(pts) < 3:
+    meridian's derivatives has a smooth solution beyond), else the solver's message (a
+    mid-surface method's own message, which says what its Hessian found)."""
+    from .methods.base import MidSurface, implements
+
+    if len(pts) < 3 or implements(system, MidSurface):
         return message
     try:
         L0, _ = legendre_along(system, pts[0].U, pts[0].p)

@@ -19,7 +19,7 @@ import numpy as np
 from .cache import atomic_write_text
 from .ellipticity import ellipticity
 from .errors import ConvergenceError
-from .methods.base import InnerRoots, implements
+from .methods.base import InnerRoots, MidSurface, implements
 from .scene import Scene
 
 __all__ = ["Equilibrium", "Fold", "Branch", "equilibrium_from"]
@@ -126,6 +126,8 @@ def _resolution(stats: dict) -> str:
 
 def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
     """The :class:`Equilibrium` of a converged discrete solution U at p."""
+    if implements(system, MidSurface):
+        return _equilibrium_of_surface(system, U, p, stats, error_estimate)
     bvp = system.bvp
     sc = bvp.scene
     t, Ys = system.nodes(U, p)
@@ -170,6 +172,32 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
         message=message, z_apex=float(z_apex), profile=bvp.profile(dense_t),
         legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
+        thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
+        load_potential=float(Ep))
+
+
+def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
+    """The :class:`Equilibrium` of a :class:`shellbvp.methods.base.MidSurface` solution: the
+    state read from the mid-surface at the method's own points (no inner inversion), the
+    energies by its own quadrature, the force F_r from its multipliers."""
+    sc = system.scene
+    st = system.state_at(U, p, system.output_points())
+    X, F = st["X"], st["F"]
+    legendre, block, full = ellipticity(X.T, st["gw"], st["Hw"], sc.h)
+    profile = system.profile(U, p)
+    Es, Eb, Ep = system.energies(U, p)
+    m, _ = system.monitor(U)
+    y = profile(st["s"])
+    scale = sc.h**2 / 12
+    return Equilibrium(
+        scene=sc, p=float(p), s=st["s"], r=st["r"], z=st["z"], theta=st["theta"],
+        lam1=X[0], lam2=X[1], k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2,
+        eps22=(X[1] ** 2 - 1) / 2, M=st["M"], F_r=scale * y[4], F_z=scale * y[5],
+        energy=Es + Eb + Ep, stretching_energy=Es, bending_energy=Eb,
+        w=float(m * system.bvp.rise), error_estimate=float(error_estimate),
+        stats=dict(stats or {}), success=True, message="converged", z_apex=0.0,
+        profile=profile, legendre=legendre, hessian_block=block,
+        pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
         load_potential=float(Ep))
 

@@ -31,7 +31,7 @@ import numpy as np
 from .results import Equilibrium
 
 
-__all__ = ["SecondVariation", "second_variation"]
+__all__ = ["SecondVariation", "second_variation", "stable_point"]
 
 
 @dataclass(frozen=True)
@@ -183,3 +183,37 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     return SecondVariation(eigenvalues=vals, s=s.ravel(), theta_modes=modes[:n].T,
                            lam1_modes=modes[n:].T, nodes=int(N),
                            projected_gradient=float(np.linalg.norm(Z.T @ grad)))
+
+
+def stable_point(system, pt) -> str:
+    """"" if the Hessian of a mid-surface method's energy at point ``pt`` (fixed parameter,
+    :meth:`shellbvp.methods.base.MidSurface.spectrum`) is positive definite, else why not,
+    with where its softest mode lives and the Legendre condition there: the veto that ends
+    a branch followed with ``follow(..., check_stability=True)``."""
+    from .ellipticity import legendre_along
+
+    sv = system.spectrum(pt.U, pt.p, count=1)
+    lam = float(sv.eigenvalues[0])
+    if lam > 0:
+        return ""
+    mode = np.abs(sv.theta_modes[0])
+    s_mode = float(sv.s[int(np.argmax(mode))])
+    L, s_L = legendre_along(system, pt.U, pt.p)
+    name = system.scene.parameter
+    return (f"the discrete energy's Hessian at fixed {name} loses positive definiteness "
+            f"before {name} = {pt.p:.6g} (smallest eigenvalue {lam:.3g}, its mode largest at "
+            f"s = {s_mode:.4g}; Legendre condition min {L:.3g} at s = {s_L:.4g}); "
+            f"{_verdict(L, s_mode, s_L)} ({_resolution_text(system)})")
+
+
+def _verdict(L, s_mode, s_L) -> str:
+    if L <= 0:
+        return ("the reduced energy is not elliptic there: an ill-posed loss of stability "
+                "whose parameter value drifts with the resolution (a limit of the reduced "
+                "model, not a buckling load)")
+    return ("the reduced energy is elliptic everywhere: a fold or bifurcation of the shell, "
+            "to be confirmed by its convergence with the resolution")
+
+
+def _resolution_text(system) -> str:
+    return ", ".join(f"{k} {v}" for k, v in system.describe().items())

@@ -16,8 +16,8 @@ from typing import Callable, Protocol, runtime_checkable
 import numpy as np
 
 __all__ = ["DiscreteSystem", "Discretisation", "Transplantable", "SecondOrder", "InnerRoots",
-           "Method", "DirectSolver", "NodalBVP", "ShellProblem", "NodalSystem", "first_rung",
-           "implements"]
+           "Method", "DirectSolver", "NodalBVP", "ShellProblem", "NodalSystem", "MidSurface",
+           "first_rung", "implements"]
 
 
 @runtime_checkable
@@ -103,6 +103,33 @@ class InnerRoots(Protocol):
 
     def inner_roots(self, U, p) -> np.ndarray:
         """(P, nodes, 2)."""
+
+
+@runtime_checkable
+class MidSurface(Protocol):
+    """A discretisation of the mid-surface itself rather than of the first-order system
+    (direct minimisation of the energy, :mod:`shellbvp.methods.ritz`): it reads the principal
+    state from its unknowns (no inner constitutive inversion), integrates its own energy,
+    and its Jacobian is the Hessian of that energy, whose spectrum is the discrete second
+    variation."""
+
+    def state_at(self, U, p, s) -> dict:
+        """The state at points s > 0: ``s, r, z, theta, X`` (lam1, lam2, k1, k2), ``F``
+        (g1, g2, kb1, kb2), ``M`` (per mu* h0 R0 per radian), ``gw`` (n, 4) and ``Hw``
+        (n, 4, 4) (gradient and Hessian of W in X)."""
+
+    def output_points(self):
+        """The points (s > 0) at which an equilibrium is reported."""
+
+    def energies(self, U, p) -> tuple:
+        """(E_s, E_b, E_p) per mu* h0 R0^2 by the method's own quadrature."""
+
+    def spectrum(self, U, p, *, count: int = 4):
+        """The smallest eigenvalues and modes of the Hessian at fixed parameter
+        (:class:`shellbvp.stability.SecondVariation`)."""
+
+    def profile(self, U, p):
+        """s -> (6, n): the first-order system's unknowns (a guess for any method)."""
 
 
 @runtime_checkable

@@ -1,0 +1,695 @@
+"""Direct minimisation of the discrete reduced energy (a Ritz method): the paper's own route.
+
+The other methods solve the first-order Euler-Lagrange system, which needs the inner
+inversion of the moment M -> (lam1, k1) at every node and regular-series conditions at the
+pole. This one never forms those equations. Its unknowns are the meridian itself, as the
+tangent angle theta(s), the actual meridional stretch Lambda(s) = |x'| = g1 lam1 and the
+radius r(s), on spectral elements (Chebyshev-Lobatto nodes of degree q per element), and
+the discrete energy
+
+    E = 2 pi int [ W(Lambda / g1, r / (g2 sin s), -theta' / Lambda, -sin(theta) / r; kb)
+                   g1 g2 sin s + (P / 2) r^2 Lambda sin(theta) ] ds
+
+(Gauss-Legendre quadrature per element; P the pressure, if any) is made stationary under
+the kinematic constraint r' = Lambda cos(theta), imposed at the q Gauss points of every
+element with multipliers f = 12/h^2 F_r (the meridional force per radian, scaled as the
+first-order system scales it). The discrete system is R = grad L = 0 for the Lagrangian
+L = E + 2 pi int (h^2/12) f (r' - Lambda cos theta) ds, its Jacobian the Hessian of L,
+both exact (JAX, per quadrature point, assembled through the elements' fixed linear maps
+into a sparse symmetric matrix). It plugs into the same continuation, fold location and
+refinement ladder as every other method.
+
+What it does not need:
+
+* no inner constitutive inversion (lam1 and k1 are read from the unknowns), so it passes
+  states where that inversion folds;
+* no pole conditions: theta(0) = 0 and r(0) = 0 are the only conditions at the apex (the
+  finite-energy conditions: a nonzero apex angle costs a bending energy ~ log(1/s)); the
+  quadrature points lie inside the elements, never at s = 0. Where the target is a cone at
+  the apex (g1 != g2) or its curvature is anisotropic there (kb1 != kb2), the solution is
+  singular at s = 0 (curvatures ~ log s); the elements are then graded geometrically
+  toward the apex (``layers`` layers, each ``grading`` times the next), the hp-refinement
+  that resolves such singularities (Babuska & Guo): w converges, the apex strains do not.
+
+Boundary conditions: clamped edge theta(Theta) = Theta, r(Theta) = sin Theta (Dirichlet);
+a free edge has none (M = F_r = 0 are natural). The vertical position z never enters the
+energy (it is z' = -Lambda sin theta, integrated afterwards), so these scenes have F_z = 0
+along the whole meridian: a free edge, or a free apex. A held apex with a clamped edge
+(a point force at the apex) is refused.
+
+Stability comes with it: the Hessian of L restricted to the constraints' tangent space is
+the discrete second variation at fixed stimulus (:meth:`RitzSystem.spectrum`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .chebyshev import chebyshev_points, differentiation_matrix
+
+__all__ = ["Ritz", "RitzSystem", "MIN_DEGREE", "MAX_DEGREE", "REFINE_STEP"]
+
+#: the smallest and largest polynomial degree per element
+MIN_DEGREE, MAX_DEGREE = 6, 64
+#: degree added per rung of the refinement ladder (the geometric layers grow with it)
+REFINE_STEP = 4
+#: parameter values at which the fields are probed for a singular apex
+APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
+
+
+@dataclass(frozen=True)
+class Ritz:
+    """Direct minimisation of the discrete reduced energy on spectral elements.
+
+    Attributes:
+        degree: polynomial degree per element (q; theta, Lambda and r at its q + 1
+            Chebyshev-Lobatto nodes, the multiplier at its q Gauss points).
+        elements: elements per piece of the scene, of equal length (outside the apex
+            layers).
+        layers: geometric layers toward the apex in the first piece; None (default): none
+            where the apex is regular, and where it is singular (a conical target,
+            g1 != g2, or an anisotropic target curvature, kb1 != kb2, at s = 0) enough that
+            the innermost element is ``APEX_CORE`` of the first (11 at grading 0.15).
+        grading: ratio of the lengths of consecutive layers (0 < grading < 1).
+    """
+
+    degree: int = 16
+    elements: int = 2
+    layers: int | None = None
+    grading: float = 0.15
+    name = "energy"
+
+    def __post_init__(self):
+        if not (isinstance(self.degree, (int, np.integer))
+                and MIN_DEGREE <= self.degree <= MAX_DEGREE):
+            raise ValueError(f"degree must be an integer in [{MIN_DEGREE}, {MAX_DEGREE}] "
+                             f"(polynomial degree per element), got {self.degree!r}")
+        if not (isinstance(self.elements, (int, np.integer)) and 1 <= self.elements <= 64):
+            raise ValueError(f"elements must be an integer in [1, 64] (per piece), got "
+                             f"{self.elements!r}")
+        if self.layers is not None and not (isinstance(self.layers, (int, np.integer))
+                                            and 0 <= self.layers <= 60):
+            raise ValueError(f"layers must be None or an integer in [0, 60], got "
+                             f"{self.layers!r}")
+        if not (isinstance(self.grading, (int, float)) and 0.01 <= self.grading <= 0.9):
+            raise ValueError(f"grading must be a number in [0.01, 0.9], got {self.grading!r}")
+
+    def discretise(self, bvp) -> "RitzSystem":
+        return RitzSystem(bvp, self)
+
+
+#: the innermost element of the apex layers, relative to the first piece's element: a
+#: curvature ~ log s there changes the energy by ~ (APEX_CORE log APEX_CORE)^2, below round-off
+APEX_CORE = 1e-9
+
+
+def auto_layers(grading: float) -> int:
+    """Geometric layers whose innermost element is APEX_CORE of the first element."""
+    return math.ceil(math.log(APEX_CORE) / math.log(grading))
+
+
+def singular_apex(scene) -> bool:
+    """Whether the target is singular at the apex for some probed parameter value: a cone
+    (g1 != g2) or an anisotropic curvature (kb1 != kb2) at s = 0."""
+    for p in APEX_PROBES:
+        g1, g2, kb1, kb2 = (float(np.asarray(v).ravel()[0])
+                            for v in scene.field_values(0, np.array([0.0]), p))
+        if all(math.isfinite(v) for v in (g1, g2, kb1, kb2)) and (g1 != g2 or kb1 != kb2):
+            return True
+    return False
+
+
+# --- one element: nodes, quadrature, the fixed linear maps --------------------------------
+def _gauss(n):
+    x, w = np.polynomial.legendre.leggauss(n)
+    return (x + 1) / 2, w / 2
+
+
+def _barycentric(nodes, weights, x):
+    """The matrix of Lagrange interpolation from ``nodes`` (barycentric ``weights``) to x."""
+    x = np.asarray(x, dtype=float)
+    d = x[:, None] - nodes[None, :]
+    exact = d == 0
+    d = np.where(exact, 1.0, d)
+    C = weights[None, :] / d
+    C /= C.sum(axis=1, keepdims=True)
+    hit = exact.any(axis=1)
+    C[hit] = exact[hit].astype(float)
+    return C
+
+
+def _lobatto_weights(q):
+    w = (-1.0) ** np.arange(q + 1)
+    w[0] *= 0.5
+    w[-1] *= 0.5
+    return w
+
+
+def _general_weights(nodes):
+    d = nodes[:, None] - nodes[None, :]
+    np.fill_diagonal(d, 1.0)
+    return 1.0 / d.prod(axis=1)
+
+
+@lru_cache(maxsize=None)
+def _element(q, nq):
+    """(t nodes, tq, wq, tc, wc, B_E (nq, 4, nloc), B_C (q, 4, nloc)) of the reference
+    element [0, 1]: the local unknowns are (theta, Lambda, r) at the q + 1 nodes and f at
+    the q collocation (Gauss) points; B_E gives (theta, dtheta/dt, Lambda, r) at the energy
+    quadrature points, B_C (theta, Lambda, dr/dt, f) at the collocation points."""
+    t = chebyshev_points(q)
+    D = differentiation_matrix(q)
+    bw = _lobatto_weights(q)
+    tq, wq = _gauss(nq)
+    tc, wc = _gauss(q)
+    Iq, Ic = _barycentric(t, bw, tq), _barycentric(t, bw, tc)
+    n1 = q + 1
+    nloc = 3 * n1 + q
+    BE = np.zeros((nq, 4, nloc))
+    BE[:, 0, :n1] = Iq
+    BE[:, 1, :n1] = Iq @ D
+    BE[:, 2, n1:2 * n1] = Iq
+    BE[:, 3, 2 * n1:3 * n1] = Iq
+    BC = np.zeros((q, 4, nloc))
+    BC[:, 0, :n1] = Ic
+    BC[:, 1, n1:2 * n1] = Ic
+    BC[:, 2, 2 * n1:3 * n1] = Ic @ D
+    BC[:, 3, 3 * n1:] = np.eye(q)
+    return t, tq, wq, tc, wc, BE, BC
+
+
+def quadrature_points(q: int) -> int:
+    """Energy quadrature points per element of degree q (the integrand is a nonlinear
+    function of degree-q interpolants: half as many again keeps its aliasing below the
+    interpolation error)."""
+    return (3 * q) // 2 + 2
+
+
+# --- compiled programs ----------------------------------------------------------------------
+@lru_cache(maxsize=None)
+def _programs(model, material, rhob1, fields, pressure, pieces, q, nq, n_c):
+    """The compiled element computations of a scene's energy: ``pieces`` is the number of
+    elements of every piece (static: the fields are called piece by piece)."""
+    from ..jaxsetup import jax
+    import jax.numpy as jnp
+
+    from ..compiled import energy_function
+    from ..scene import call_fields
+
+    W = energy_function(model, material, rhob1)
+    _, _, wq, _, wc, BE, BC = _element(q, nq)
+    BE, BC, wq, wc = (jnp.asarray(a) for a in (BE, BC, wq, wc))
+    bounds = np.cumsum((0,) + pieces)
+
+    def field_values(sq, p, c):
+        out = []
+        for i in range(len(pieces)):
+            s_i = sq[bounds[i]:bounds[i + 1]]
+            F = call_fields(fields, i, s_i, p, c)
+            out.append(jnp.stack([jnp.broadcast_to(jnp.asarray(v, dtype=float), s_i.shape)
+                                  for v in F], axis=-1))
+        return jnp.concatenate(out, axis=0)                       # (E, nq, 4)
+
+    def load(p):
+        return 0.0 if pressure is None else jnp.asarray(pressure(p), dtype=float)
+
+    def phi(v, s, L, F, P, mat, h):
+        th, tht, Lam, r = v
+        g1, g2, kb1, kb2 = F
+        sn = jnp.sin(s)
+        lam1, lam2 = Lam / g1, r / (g2 * sn)
+        k1, k2 = -(tht / L) / Lam, -jnp.sin(th) / r
+        return (W(lam1, lam2, k1, k2, kb1, kb2, mat, h) * g1 * g2 * sn
+                + 0.5 * P * r * r * Lam * jnp.sin(th))
+
+    def psi(u, L, h):
+        th, Lam, rt, f = u
+        return h * h / 12.0 * f * (rt / L - Lam * jnp.cos(th))
+
+    over_points = (0, 0, None, 0, None, None, None)      # vmap over the points of an element
+    phi_g = jax.vmap(jax.vmap(jax.grad(phi), over_points), (0, 0, 0, 0, None, None, None))
+    phi_h = jax.vmap(jax.vmap(jax.hessian(phi), over_points), (0, 0, 0, 0, None, None, None))
+    psi_g = jax.vmap(jax.vmap(jax.grad(psi), (0, None, None)), (0, 0, None))
+    psi_h = jax.vmap(jax.vmap(jax.hessian(psi), (0, None, None)), (0, 0, None))
+
+    def gradient(xl, sq, L, p, mat, h, c):
+        V = jnp.einsum("gkn,en->egk", BE, xl)
+        U = jnp.einsum("gkn,en->egk", BC, xl)
+        F, P = field_values(sq, p, c), load(p)
+        we = 2 * jnp.pi * L[:, None, None] * wq[None, :, None]
+        wk = 2 * jnp.pi * L[:, None, None] * wc[None, :, None]
+        gE = phi_g(V, sq, L, F, P, mat, h) * we
+        gC = psi_g(U, L, h) * wk
+        return jnp.einsum("gkn,egk->en", BE, gE) + jnp.einsum("gkn,egk->en", BC, gC)
+
+    def evaluate(xl, sq, L, p, mat, h, c):
+        V = jnp.einsum("gkn,en->egk", BE, xl)
+        U = jnp.einsum("gkn,en->egk", BC, xl)
+        F, P = field_values(sq, p, c), load(p)
+        we = 2 * jnp.pi * L[:, None, None, None] * wq[None, :, None, None]
+        wk = 2 * jnp.pi * L[:, None, None, None] * wc[None, :, None, None]
+        HE = phi_h(V, sq, L, F, P, mat, h) * we
+        HC = psi_h(U, L, h) * wk
+        H = (jnp.einsum("gkn,egkl,glm->enm", BE, HE, BE)
+             + jnp.einsum("gkn,egkl,glm->enm", BC, HC, BC))
+        g, gp = jax.jvp(lambda p_: gradient(xl, sq, L, p_, mat, h, c), (p,), (1.0,))
+        # the observable's integral I = int Lambda sin(theta) ds and its gradient
+        dI = jnp.stack([V[..., 2] * jnp.cos(V[..., 0]), V[..., 2] * 0.0,
+                        jnp.sin(V[..., 0]), V[..., 2] * 0.0], axis=-1) \
+            * (L[:, None, None] * wq[None, :, None])
+        I = jnp.sum(V[..., 2] * jnp.sin(V[..., 0]) * L[:, None] * wq[None, :])
+        ok = jnp.all(V[..., 2] > 0)
+        return g, H, gp, I, jnp.einsum("gkn,egk->en", BE, dI), ok
+
+    def energy(xl, sq, L, p, mat, h, c):
+        """The energy's two parts (W, pressure) per element quadrature point."""
+        V = jnp.einsum("gkn,en->egk", BE, xl)
+        F, P = field_values(sq, p, c), load(p)
+        th, Lam, r = V[..., 0], V[..., 2], V[..., 3]
+        sn = jnp.sin(sq)
+        X = jnp.stack([Lam / F[..., 0], r / (F[..., 1] * sn),
+                       -(V[..., 1] / L[:, None]) / Lam, -jnp.sin(th) / r], axis=-1)
+        return X, F, 0.5 * P * r * r * Lam * jnp.sin(th)
+
+    return jax.jit(evaluate), jax.jit(energy), jax.jit(field_values)
+
+
+@lru_cache(maxsize=None)
+def _w_derivatives(model, material, rhob1):
+    """X (n, 4), kb1, kb2 (n,), mat, h -> (gradient (n, 4), Hessian (n, 4, 4)) of W in
+    X = (lam1, lam2, k1, k2)."""
+    from ..jaxsetup import jax
+    import jax.numpy as jnp
+
+    from ..compiled import energy_function
+
+    W = energy_function(model, material, rhob1)
+
+    def w(X, kb1, kb2, mat, h):
+        return W(X[0], X[1], X[2], X[3], kb1, kb2, mat, h)
+
+    one = (0, 0, 0, None, None)
+    g = jax.vmap(jax.grad(w), one)
+    H = jax.vmap(jax.hessian(w), one)
+    return jax.jit(lambda X, kb1, kb2, mat, h: (g(X, kb1, kb2, mat, h),
+                                                H(X, kb1, kb2, mat, h)))
+
+
+# --- the discrete system --------------------------------------------------------------------
+class RitzSystem:
+    """R(U, p) = grad L on the free unknowns (see the module docstring); J its Hessian
+    (scipy.sparse, symmetric), dR/dp exact. U: theta, Lambda, r at the element nodes and f
+    at the collocation points, less the fixed values (theta(0) = r(0) = 0; at a clamped
+    edge theta, r)."""
+
+    #: relative error of the Jacobian: round-off (JAX's exact derivatives)
+    jacobian_error = 0.0
+    dense_jacobian = False
+
+    def __init__(self, bvp, method: Ritz):
+        sc = bvp.scene
+        if sc.apex == "held" and sc.edge == "clamped":
+            raise ValueError("the energy method needs F_z = 0 along the meridian (a free edge "
+                             "or a free apex); a held apex with a clamped edge carries a point "
+                             "force it does not represent")
+        self.bvp, self.method = bvp, method
+        self.scene = sc
+        q = self.q = int(method.degree)
+        self.nq = quadrature_points(q)
+        self.singular = singular_apex(sc)
+        self.layers = (auto_layers(method.grading) if self.singular else 0) \
+            if method.layers is None else int(method.layers)
+        ends = (0.0,) + sc.breaks + (sc.theta,)
+        P = self.P = sc.pieces
+        edges, counts = [], []
+        for i in range(P):
+            a, b = ends[i], ends[i + 1]
+            cuts = list(np.linspace(a, b, method.elements + 1))
+            if i == 0 and self.layers:
+                first = a + (b - a) / method.elements
+                cuts = [0.0] + [first * method.grading ** k
+                                for k in range(self.layers, 0, -1)] + cuts[1:]
+            edges.append(np.array(cuts))
+            counts.append(len(cuts) - 1)
+        self.pieces = tuple(counts)
+        self.piece_ends = np.array(ends)
+        self.ea = np.concatenate([e[:-1] for e in edges])            # element starts
+        self.eb = np.concatenate([e[1:] for e in edges])
+        self.L = self.eb - self.ea
+        E = self.E = self.ea.size
+        self.element_piece = np.repeat(np.arange(P), counts)
+        t, tq, _, tc, _, _, _ = _element(q, self.nq)
+        self.t_nodes, self.tq, self.tc = t, tq, tc
+        self.sq = self.ea[:, None] + self.L[:, None] * tq[None, :]     # (E, nq)
+        self.sn = self.ea[:, None] + self.L[:, None] * t[None, :]      # (E, q + 1)
+        # global numbering: theta and r continuous everywhere, Lambda within pieces
+        n1 = q + 1
+        nodes = E * q + 1
+        node = np.arange(E)[:, None] * q + np.arange(n1)[None, :]      # (E, q + 1)
+        lam_start = np.concatenate([[0], np.cumsum(np.array(counts) * q + 1)])[:-1]
+        first_e = np.concatenate([[0], np.cumsum(counts)])[:-1]
+        lam_node = np.stack([lam_start[self.element_piece[e]]
+                             + (e - first_e[self.element_piece[e]]) * q + np.arange(n1)
+                             for e in range(E)])
+        n_lam = int(sum(c * q + 1 for c in counts))
+        off_lam, off_r = nodes, nodes + n_lam
+        off_f = off_r + nodes
+        self.n_full = off_f + E * q
+        self.idx = np.concatenate([node, off_lam + lam_node, off_r + node,
+                                   off_f + np.arange(E * q).reshape(E, q)], axis=1)
+        self.offsets = (0, off_lam, off_r, off_f, nodes, n_lam)
+        fixed = {0: 0.0, off_r: 0.0}
+        if sc.edge == "clamped":
+            fixed[nodes - 1] = sc.theta
+            fixed[off_r + nodes - 1] = math.sin(sc.theta)
+        self.fixed = np.zeros(self.n_full)
+        free = np.ones(self.n_full, dtype=bool)
+        for k, v in fixed.items():
+            self.fixed[k], free[k] = v, False
+        self.free = np.flatnonzero(free)
+        self.size = self.free.size
+        # the unknowns are scaled so that Newton sees every one at the size that matters:
+        # the stiffness of Lambda in an element of length l at s ~ l falls like l^2 (the
+        # area there), so Lambda enters U as Lambda l / l0 (l0 the first piece's elements):
+        # its Jacobian block is then O(1) and its round-off does not stall the updates
+        l0 = (self.piece_ends[1] - self.piece_ends[0]) / method.elements
+        scale = np.ones(self.n_full)
+        lam_cols = self.idx[:, n1:2 * n1]
+        np.maximum.at(scale, lam_cols, 0.0)            # reset Lambda's, then the largest
+        scale[off_lam:off_r] = 0.0
+        np.maximum.at(scale, lam_cols, np.repeat(np.minimum(1.0, self.L / l0)[:, None], n1, 1))
+        self.scale = scale[self.free]
+        where = np.full(self.n_full, -1)
+        where[self.free] = np.arange(self.size)
+        rows = np.broadcast_to(where[self.idx][:, :, None], (E, 4 * q + 3, 4 * q + 3))
+        cols = np.broadcast_to(where[self.idx][:, None, :], (E, 4 * q + 3, 4 * q + 3))
+        keep = (rows >= 0) & (cols >= 0)
+        self._keep = keep.ravel()
+        self._rows, self._cols = rows.ravel()[self._keep], cols.ravel()[self._keep]
+        self._evaluate, self._energy, self._fields = _programs(
+            sc.model, sc.material, float(sc.rhob1), sc.fields, sc.pressure, self.pieces, q,
+            self.nq, len(sc.field_parameters))
+        self._c = np.asarray(sc.field_parameters, dtype=float)
+        self.evaluations = 0
+        self._monitor = None
+
+    # --- unknowns -------------------------------------------------------------------------
+    def full(self, U) -> np.ndarray:
+        x = self.fixed.copy()
+        x[self.free] = U / self.scale
+        return x
+
+    def local(self, U) -> np.ndarray:
+        """The unknowns per element (E, 4 q + 3): theta, Lambda, r at the nodes, f."""
+        return self.full(U)[self.idx]
+
+    def _sign(self):
+        # the observable: free edge, z(edge) - z(apex) = -I; clamped, z(apex) - z(edge) = I;
+        # both as displacements from the reference (I = H there), in rises H
+        return -1.0 if self.scene.edge == "free" else 1.0
+
+    def _args(self, p):
+        sc = self.scene
+        return (self.sq, self.L, float(p), sc.material_parameter, sc.h, self._c)
+
+    # --- the system -----------------------------------------------------------------------
+    def evaluate(self, U, p):
+        import scipy.sparse as sps
+
+        xl = self.local(U)
+        g, H, gp, I, dI, ok = self._evaluate(xl, *self._args(p))
+        self.evaluations += 1
+        self.bvp.evaluations += 1
+        if not bool(ok):
+            from ..errors import ConvergenceError
+
+            raise ConvergenceError(f"energy method: the meridional stretch is not positive at "
+                                   f"{self.scene.parameter} = {p:g} (a step too long)")
+        c = self.scale
+        R = np.bincount(self.idx.ravel(), np.asarray(g).ravel(), self.n_full)[self.free] / c
+        Rp = np.bincount(self.idx.ravel(), np.asarray(gp).ravel(), self.n_full)[self.free] / c
+        vals = np.asarray(H).ravel()[self._keep] / (c[self._rows] * c[self._cols])
+        J = sps.csc_matrix((vals, (self._rows, self._cols)), shape=(self.size, self.size))
+        H0 = self.bvp.rise
+        dm = np.bincount(self.idx.ravel(), np.asarray(dI).ravel(), self.n_full)[self.free] / c
+        self._monitor = (np.array(U, dtype=float),
+                         (self._sign() * (float(I) - H0) / H0, self._sign() * dm / H0))
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(vals))):
+            from ..errors import ConvergenceError
+
+            raise ConvergenceError(f"energy method: non-finite energy gradient at "
+                                   f"{self.scene.parameter} = {p:g}")
+        return R, J, Rp
+
+    def monitor(self, U):
+        if self._monitor is not None and np.array_equal(self._monitor[0], U):
+            return self._monitor[1]
+        xl = self.local(U)
+        _, _, _, I, dI, _ = self._evaluate(xl, *self._args(0.0))
+        H0 = self.bvp.rise
+        dm = np.bincount(self.idx.ravel(), np.asarray(dI).ravel(), self.n_full)[self.free] \
+            / self.scale
+        return self._sign() * (float(I) - H0) / H0, self._sign() * dm / H0
+
+    # --- profiles -------------------------------------------------------------------------
+    def from_profile(self, profile) -> np.ndarray:
+        """U from a callable s -> (6, n) of the BVP's unknowns (r, z, theta, m, f_r, f_z):
+        theta and r at the nodes, Lambda = |(r', z')| by differences within each piece,
+        f = f_r at the collocation points."""
+        x = np.zeros(self.n_full)
+        q, E = self.q, self.E
+        _, off_lam, off_r, off_f, nodes, _ = self.offsets
+        s_nodes = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
+        Y = np.asarray(profile(s_nodes), dtype=float)
+        x[:nodes], x[off_r:off_r + nodes] = Y[2], Y[0]
+        # Lambda per element node, by a difference kept inside the element's piece
+        lo = self.piece_ends[self.element_piece][:, None]
+        hi = self.piece_ends[self.element_piece + 1][:, None]
+        d = 1e-6 * (hi - lo)
+        sa, sb = np.maximum(self.sn - d, lo), np.minimum(self.sn + d, hi)
+        Ya, Yb = (np.asarray(profile(v.ravel()), dtype=float).reshape(6, E, q + 1)
+                  for v in (sa, sb))
+        Lam = np.hypot(Yb[0] - Ya[0], Yb[1] - Ya[1]) / (sb - sa)
+        x[self.idx[:, q + 1:2 * q + 2]] = Lam
+        sc_ = self.ea[:, None] + self.L[:, None] * self.tc[None, :]
+        x[off_f:] = np.asarray(profile(sc_.ravel()), dtype=float)[4]
+        return x[self.free] * self.scale
+
+    def _values(self, U):
+        """theta, Lambda, r at the nodes (E, q + 1) each, and f at the collocation points."""
+        xl = self.local(U)
+        n1 = self.q + 1
+        return xl[:, :n1], xl[:, n1:2 * n1], xl[:, 2 * n1:3 * n1], xl[:, 3 * n1:]
+
+    def _locate(self, s):
+        """(element, local coordinate) of every s; an interface belongs to the next piece,
+        as in :meth:`shellbvp.bvp.ShellBVP.profile`."""
+        s = np.asarray(s, dtype=float)
+        e = np.clip(np.searchsorted(self.ea, s, side="right") - 1, 0, self.E - 1)
+        return e, (s - self.ea[e]) / self.L[e]
+
+    def interpolate(self, values, s, *, at="nodes"):
+        """Element-wise interpolation of ``values`` (E, k) (at the nodes, or at the
+        collocation points with ``at="collocation"``) to the points s."""
+        e, x = self._locate(s)
+        if at == "nodes":
+            C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x)
+        else:
+            C = _barycentric(self.tc, _general_weights(self.tc), x)
+        return np.einsum("nk,nk->n", C, values[e])
+
+    def _z(self, th, Lam, s):
+        """z(s) - z(0) = -int_0^s Lambda sin(theta) ds, by Gauss quadrature per element."""
+        tq, wq = _gauss(self.nq)
+        f = np.sin(self.interpolate_all(th, self.sq)) * self.interpolate_all(Lam, self.sq)
+        whole = np.concatenate([[0.0], np.cumsum(np.sum(f * wq * self.L[:, None], axis=1))])
+        e, x = self._locate(s)
+        pts = self.ea[e][:, None] + (x * self.L[e])[:, None] * tq[None, :]
+        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), ((pts - self.ea[e][:, None])
+                                                                  / self.L[e][:, None]).ravel())
+        C = C.reshape(pts.shape + (self.q + 1,))
+        part = np.sin(np.einsum("ngk,nk->ng", C, th[e])) * np.einsum("ngk,nk->ng", C, Lam[e])
+        return -(whole[e] + np.sum(part * wq, axis=1) * x * self.L[e])
+
+    def interpolate_all(self, values, pts):
+        """Interpolation within each element of ``values`` (E, q + 1) to that element's own
+        points ``pts`` (E, k)."""
+        x = (pts - self.ea[:, None]) / self.L[:, None]
+        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x.ravel())
+        return np.einsum("ekj,ej->ek", C.reshape(x.shape + (self.q + 1,)), values)
+
+    def profile(self, U, p):
+        """A callable s -> (6, n): the BVP's unknowns (r, z, theta, m, f_r, f_z) of this
+        solution (z from the apex, m and f scaled by 12/h^2), a guess for any method."""
+        th, Lam, r, f = self._values(U)
+        sc = self.scene
+
+        def ev(s):
+            s = np.atleast_1d(np.asarray(s, dtype=float))
+            st = self.state_at(U, p, s)
+            m = 12.0 / sc.h ** 2 * st["M"]
+            return np.stack([st["r"], st["z"], st["theta"], m,
+                             self.interpolate(f, s, at="collocation"), 0.0 * s])
+
+        return ev
+
+    def dense(self, U, p=None):
+        ev = self.profile(U, 0.0 if p is None else p)
+        a, b = self.piece_ends[:-1], self.piece_ends[1:]
+
+        def at(t):
+            t = np.atleast_1d(np.asarray(t, dtype=float))
+            # each piece on its own side of an interface: nudge its ends inside
+            out = []
+            for i in range(self.P):
+                s = a[i] + (b[i] - a[i]) * t
+                s = np.clip(s, a[i], np.nextafter(b[i], a[i]) if i < self.P - 1 else b[i])
+                out.append(ev(s))
+            return np.concatenate(out)
+
+        return at
+
+    def state_at(self, U, p, s) -> dict:
+        """The state at the points s (> 0): r, z, theta, stretches, curvatures, fields, the
+        moment M = -W_k1 g2 sin s / lam1 (per mu* h0 R0 per radian) and the W gradient and
+        Hessian in (lam1, lam2, k1, k2)."""
+        th, Lam, r, _ = self._values(U)
+        sc = self.scene
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        e, x = self._locate(s)
+        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x)
+        Dm = differentiation_matrix(self.q)
+        thv = np.einsum("nk,nk->n", C, th[e])
+        dth = np.einsum("nk,nk->n", C, (th @ Dm.T)[e]) / self.L[e]
+        Lv = np.einsum("nk,nk->n", C, Lam[e])
+        rv = np.einsum("nk,nk->n", C, r[e])
+        F = np.zeros((4, s.size))
+        for i in range(self.P):
+            sel = self.element_piece[e] == i
+            if np.any(sel):
+                vals = self.scene.field_values(i, s[sel], p)
+                F[:, sel] = [np.broadcast_to(np.asarray(v, dtype=float), s[sel].shape)
+                             for v in vals]
+        g1, g2, kb1, kb2 = F
+        sn = np.sin(s)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            X = np.stack([Lv / g1, rv / (g2 * sn), -dth / Lv, -np.sin(thv) / rv])
+        gw, Hw = _w_derivatives(sc.model, sc.material, float(sc.rhob1))(
+            X.T, kb1, kb2, sc.material_parameter, sc.h)
+        gw, Hw = np.asarray(gw), np.asarray(Hw)
+        M = -gw[:, 2] * g2 * sn / X[0]
+        return dict(s=s, r=rv, z=self._z(th, Lam, s), theta=thv, X=X, F=F, M=M, gw=gw,
+                    Hw=Hw)
+
+    def output_points(self) -> np.ndarray:
+        """The element nodes, each once, without the apex (s = 0, where lam2 and k2 are
+        limits), an interface's node belonging to the next piece."""
+        s = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
+        return s[1:]
+
+    def nodes(self, U, p):
+        t = np.linspace(0.0, 1.0, 2 * self.q + 1)
+        return t, self.dense(U, p)(t)
+
+    def transfer(self, U, p, other) -> np.ndarray:
+        """U carried onto ``other`` (another :class:`RitzSystem` of the same scene) by
+        element-wise interpolation."""
+        if not isinstance(other, RitzSystem):
+            return other.from_profile(self.profile(U, p))
+        th, Lam, r, f = self._values(U)
+        x = np.zeros(other.n_full)
+        _, off_lam, off_r, off_f, nodes, _ = other.offsets
+        s_nodes = np.concatenate([other.sn[:, :-1].ravel(), [other.sn[-1, -1]]])
+        x[:nodes] = self.interpolate(th, s_nodes)
+        x[off_r:off_r + nodes] = self.interpolate(r, s_nodes)
+        # Lambda jumps at interfaces: each element's nodes from inside its own piece
+        lo = other.piece_ends[other.element_piece][:, None]
+        hi = other.piece_ends[other.element_piece + 1][:, None]
+        inside = np.clip(other.sn, lo, np.nextafter(hi, lo))
+        e, xx = self._locate(inside.ravel())
+        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), xx)
+        lam_vals = np.einsum("nk,nk->n", C, Lam[e]).reshape(other.sn.shape)
+        x[other.idx[:, other.q + 1:2 * other.q + 2]] = lam_vals
+        sc_ = other.ea[:, None] + other.L[:, None] * other.tc[None, :]
+        x[off_f:] = self.interpolate(f, sc_.ravel(), at="collocation")
+        return x[other.free] * other.scale
+
+    # --- resolution -----------------------------------------------------------------------
+    def with_degree(self, q) -> "RitzSystem":
+        from dataclasses import replace
+
+        if not MIN_DEGREE <= q <= MAX_DEGREE:
+            raise ValueError(f"cannot refine beyond degree {MAX_DEGREE} per element")
+        return RitzSystem(self.bvp, replace(self.method, degree=int(q)))
+
+    def refined(self) -> "RitzSystem":
+        return self.with_degree(self.q + REFINE_STEP)
+
+    def for_tolerance(self, tol: float) -> "RitzSystem":
+        return self
+
+    def describe(self) -> dict:
+        return {"method": "energy", "degree": self.q, "elements": self.E,
+                "layers": self.layers}
+
+    # --- what the energy gives beyond the equations ---------------------------------------
+    def energies(self, U, p) -> tuple:
+        """(E_s, E_b, E_p): stretching, bending energy and the pressure's potential, per
+        mu* h0 R0^2, by this system's own quadrature."""
+        from ..energy import energy_terms
+
+        sc = self.scene
+        X, F, pot = (np.asarray(a) for a in self._energy(self.local(U), *self._args(p)))
+        ws, wb, _, _ = energy_terms(X[..., 0], X[..., 1], X[..., 2], X[..., 3], F[..., 2],
+                                    F[..., 3], lam=sc.lam, nu=sc.nu, model=sc.model,
+                                    material=sc.material, rhob1=sc.rhob1)
+        _, wq = _gauss(self.nq)
+        dA = 2 * math.pi * F[..., 0] * F[..., 1] * np.sin(self.sq) * self.L[:, None] * wq
+        Ep = float(np.sum(2 * math.pi * pot * self.L[:, None] * wq))
+        return float(np.sum(ws * dA)), sc.h ** 2 / 12 * float(np.sum(wb * dA)), Ep
+
+    def spectrum(self, U, p, *, count: int = 4):
+        """The ``count`` smallest eigenvalues and modes of the discrete second variation at
+        fixed stimulus: the Hessian of the Lagrangian on the tangent space of the
+        constraints (r' = Lambda cos theta at the collocation points and the fixed values),
+        scaled by its own diagonal (eigenvalues relative to the stiffness of single nodal
+        values, ~1 for a stiff mode, dimensionless; the elements graded toward a singular
+        apex are so short that any mass weighted by the area is singular in double
+        precision, while the signs, and so the stability, do not depend on the scaling).
+        Modes scaled to a largest nodal value of 1. All positive: stable. A :class:`shellbvp.stability.SecondVariation` (theta
+        and Lambda components at the element nodes ``s``; ``nodes`` is the degree per
+        element; ``projected_gradient`` the gradient's norm on that space)."""
+        from scipy.linalg import eigh, null_space
+
+        from ..stability import SecondVariation
+
+        R, J, _ = self.evaluate(U, p)
+        J = J.toarray()
+        q = self.q
+        off_f, nodes = self.offsets[3], self.offsets[4]
+        primal = self.free < off_f
+        K, A = J[np.ix_(primal, primal)], J[np.ix_(~primal, primal)]
+        # Jacobi scaling (a congruence: the inertia, so the stability, is unchanged): the
+        # stiffness of the unknowns of elements graded toward the apex falls like their
+        # length squared, below the round-off of an unscaled eigenvalue problem
+        d = np.abs(np.diag(K))
+        d = 1.0 / np.sqrt(np.maximum(d, 1e-300 + 1e-14 * d.max()))
+        Z = null_space(A * d[None, :])
+        Kr = Z.T @ (d[:, None] * K * d[None, :]) @ Z
+        k = min(count, Kr.shape[0])
+        vals, vecs = eigh((Kr + Kr.T) / 2, subset_by_index=[0, k - 1])
+        modes = d[:, None] * (Z @ vecs) / self.scale[primal][:, None]
+        modes /= np.max(np.abs(modes), axis=0)
+        full = np.zeros((self.n_full, k))
+        full[self.free[primal]] = modes
+        th_modes = full[:nodes].T
+        lam_nodes = full[self.idx[:, q + 1:2 * q + 2]]             # (E, q + 1, k)
+        lam_modes = np.concatenate([lam_nodes[:, :-1].reshape(-1, k), lam_nodes[-1:, -1]]).T
+        s = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
+        return SecondVariation(eigenvalues=vals, s=s, theta_modes=th_modes,
+                               lam1_modes=lam_modes, nodes=q,
+                               projected_gradient=float(np.linalg.norm(Z.T @ (d * R[primal]))))
