@@ -24,7 +24,7 @@ def case(eta_a, eta_b, kbars, quick=False):
     """Branch to max(kbars) and the equilibria at each kbar reached (the last point of the
     branch stands in for the kbars past its end). Returns (branch, [(kbar, eq, reached)])."""
     t0 = time.perf_counter()
-    b = bd.branch(eta_a, eta_b, max(kbars), nodes=24 if quick else None)
+    b = bd.branch(eta_a, eta_b, max(kbars), method=bd.method_for(eta_a, eta_b, quick=quick))
     out = []
     for k in kbars:
         if k <= b.p[-1]:
@@ -84,18 +84,17 @@ def draw_strains(ax, eq, color, label=None):
     ax.set_ylabel(r"$\epsilon_{11}$ (solid), $\epsilon_{22}$ (dashed)")
 
 
+def method_note(b) -> str:
+    """The method a branch was followed with and the gammas convention, for captions."""
+    return f"{b.stats['method']} method, paper's gammas (0.63/1.26)"
+
+
 def title_of(eta_a, eta_b, kbar, eq, reached, end=None):
     t = rf"$\eta_a$ = {eta_a:g}, $\eta_b$ = {eta_b:g}, $\bar\kappa$ = {kbar:g}"
     if not reached:
         t += (f"\nbranch ends at {end:.1f}; " if end is not None else "\n") + \
             rf"last valid shape, $\bar\kappa$ = {eq.p:.1f}"
     return t
-
-
-def w_table(b, kbars=(10.0, 20.0, 64.0)):
-    """w_apex at a few kbar (nan past the end of the branch), by interpolation on the
-    branch points (the branch is smooth in kbar there)."""
-    return [float(np.interp(k, b.p, b.w)) if k <= b.p[-1] else math.nan for k in kbars]
 
 
 def panels(cases, stem, argv=None, doc=""):
@@ -114,11 +113,10 @@ def panels(cases, stem, argv=None, doc=""):
         b, ((_, eq, reached),) = case(ea, eb, [kbar], quick=a.quick)
         rows += rows_of(ea, eb, kbar, eq, reached)
         draw_shape(axes[0, k], eq, None, f"C{k}")
-        axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1]),
-                             fontsize=9)
+        axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1])
+                             + f"\n{method_note(b)}", fontsize=8)
         draw_strains(axes[1, k], eq, f"C{k}")
         axes[1, k].set_title(f"({'def'[k]}) strains", fontsize=9)
-        print(f"   w_apex/R0 at kbar = 10, 20, 64: {w_table(b)}")
     write_csv(a.out / f"{stem}.csv", HEADER, rows)
     finish(fig, a.out, stem)
     print(f"total {time.perf_counter() - t0:.1f} s")

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 
-from _budding import HEADER, case, draw_shape, rows_of
+from _budding import HEADER, case, draw_shape, method_note, rows_of
 from _common import finish, parser, pyplot, write_csv
 
 KBARS = (64.0, 160.0, 300.0)
@@ -38,7 +38,7 @@ def main(argv=None):
                  rf"$\bar\kappa$ = {kbar:g}: branch ends at {eq.p:.1f} (last valid shape)")
         draw_shape(ax, eq, label, f"C{k}")
     ax.legend(fontsize=7)
-    ax.set_title(title, fontsize=9)
+    ax.set_title(title + f"\n{method_note(b)}", fontsize=9)
     write_csv(a.out / "fig6_budding_evolution.csv", HEADER, rows)
     finish(fig, a.out, "fig6_budding_evolution")
     print(f"total {time.perf_counter() - t0:.1f} s")

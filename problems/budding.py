@@ -13,13 +13,22 @@ exact interface at s = Theta/4:
 g_a^2 = 1 + gamma_a,a kbar / 5 and the target curvatures kb_a = bbar_aa / abar_aa
 = -(1 + gamma_b,a kbar) / g_a^2 (the reference sphere has b°_aa / a°_aa = -1/R0 in our
 orientation). The anisotropy ratios eta = gamma_1 / gamma_2 are taken at equal L2 norm,
-gamma_1^2 + gamma_2^2 = 2: eta = 0.5 -> (0.632, 1.265), 1 -> (1, 1), 2 -> (1.265, 0.632);
-``eta_a = 0`` means no metric stimulus.
+gamma_1^2 + gamma_2^2 = 2, either as the paper prints them (``gammas="paper"``, the default:
+0.63/1.26, 1/1 and 1.26/0.63, the equal-norm values rounded to two decimals) or exactly
+(``gammas="equal-norm"``: sqrt(2 / (1 + eta^2)) (eta, 1), 0.632.../1.264...); w differs by
+~1e-3 relative between the two. ``eta_a = 0`` means no metric stimulus.
 Boundary conditions: edge clamped (r, z, theta at their reference values), apex free of point
 force (F_z = 0).
 Observable: w, the vertical displacement of the apex relative to the clamped edge, in R0,
 positive along +z (the cap's axis, outward at the apex): a bud grows with w > 0.
 Parameter: kbar, continued from 0 by pseudo-arclength.
+
+Method: the energy method (:class:`shellbvp.Ritz`, direct minimisation of the discrete
+energy, as the paper's COMSOL computation) wherever the first-order system meets a limit of
+its own formulation: a singular apex (a conical target, eta_a not 0 or 1, or an anisotropic
+target curvature, eta_b != 1) or a metric stimulus (whose inner inversion folds before the
+energy stops being elliptic); the spectral method, faster, for the curvature-only isotropic
+case, where both end at the same kbar (:func:`method_for`; ``Branch.stats["method"]``).
 
 Where the branch cannot be continued, :func:`branch` stops at the last converged point and
 says why (``Branch.stop``); :func:`diagnose` reads the thin-shell validity and the
@@ -35,10 +44,10 @@ from dataclasses import dataclass
 import numpy as np
 
 import shellbvp
-from shellbvp import Chebyshev, ContinuationOptions, Scene
+from shellbvp import Chebyshev, ContinuationOptions, Ritz, Scene
 
-__all__ = ["THETA", "H", "LAM", "PATCH", "scene", "patch", "gammas", "branch", "equilibrium",
-           "equilibrium_near", "diagnose", "Diagnosis"]
+__all__ = ["THETA", "H", "LAM", "PATCH", "GAMMAS", "scene", "patch", "gammas", "method_for",
+           "branch", "equilibrium", "equilibrium_near", "diagnose", "Diagnosis"]
 
 THETA = math.pi / 8          # opening half-angle
 H = 0.005 / 0.25             # h0 / R0
@@ -51,15 +60,25 @@ NODES = 32
 OPTIONS = ContinuationOptions(ds=2.0, ds_max=20.0, max_steps=400)
 
 
-def gammas(eta) -> tuple:
+#: the conventions for the gammas of an anisotropy ratio (:func:`gammas`)
+GAMMAS = ("paper", "equal-norm")
+
+
+def gammas(eta, convention: str = "paper") -> tuple:
     """(gamma_1, gamma_2) of the anisotropy ratio eta = gamma_1 / gamma_2 at
-    gamma_1^2 + gamma_2^2 = 2; eta = 0 gives (0, 0), no stimulus of that kind."""
+    gamma_1^2 + gamma_2^2 = 2: ``"equal-norm"`` exactly, sqrt(2 / (1 + eta^2)) (eta, 1);
+    ``"paper"`` rounded to two decimals as the paper prints them (eta = 0.5: 0.63 / 1.26,
+    whose ratio is still exactly 0.5). eta = 0 gives (0, 0), no stimulus of that kind."""
     if not (isinstance(eta, (int, float, np.floating)) and math.isfinite(eta) and eta >= 0):
         raise ValueError(f"eta must be a finite number >= 0 (0: no stimulus of that kind), "
                          f"got {eta!r}")
+    if convention not in GAMMAS:
+        raise ValueError(f"gammas must be one of {GAMMAS}, got {convention!r}")
     if eta == 0:
         return 0.0, 0.0
     g2 = math.sqrt(2.0 / (1.0 + eta * eta))
+    if convention == "paper":
+        return round(eta * g2, 2), round(g2, 2)
     return eta * g2, g2
 
 
@@ -76,10 +95,11 @@ def patch(piece, s, kbar, c):
             -(1.0 + c[3] * kbar) / G2 * one)
 
 
-def scene(eta_a, eta_b) -> Scene:
+def scene(eta_a, eta_b, gammas: str = "paper") -> Scene:
     """The budding scene with metric anisotropy eta_a (0: curvature stimulus only) and
-    curvature anisotropy eta_b (> 0)."""
-    ga, gb = gammas(eta_a), gammas(eta_b)
+    curvature anisotropy eta_b (> 0); ``gammas``: ``"paper"`` (the printed 0.63 / 1.26,
+    default) or ``"equal-norm"`` (exact), see :func:`gammas`."""
+    ga, gb = _gammas(eta_a, gammas), _gammas(eta_b, gammas)
     if eta_b == 0:
         raise ValueError("eta_b must be > 0 (the curvature stimulus drives the bud), got 0")
     return Scene(theta=THETA, h=H, lam=LAM, model="relaxed", material="cg", apex="free",
@@ -87,11 +107,35 @@ def scene(eta_a, eta_b) -> Scene:
                  breaks=(PATCH,), metric=eta_a > 0, parameter="kbar", parameter_unit="")
 
 
-def _method(nodes):
-    return Chebyshev(nodes=NODES if nodes is None else nodes)
+_gammas = gammas
 
 
-def branch(eta_a, eta_b, kbar_max=300.0, *, nodes=None, method=None,
+#: the energy method's degree per element (its elements: two per piece, and the apex
+#: layers where the apex is singular)
+DEGREE = 16
+
+
+def method_for(eta_a, eta_b, *, quick: bool = False):
+    """The method that follows case (eta_a, eta_b) furthest correctly (module docstring):
+    :class:`shellbvp.Ritz` (degree 16, 12 with ``quick``) unless eta_a = 0 and eta_b = 1,
+    :class:`shellbvp.Chebyshev` (degree 32 per piece, 24 with ``quick``) there."""
+    scene(eta_a, eta_b)                  # checks the anisotropy ratios
+    if eta_a == 0 and eta_b == 1:
+        return Chebyshev(nodes=24 if quick else NODES)
+    return Ritz(degree=12 if quick else DEGREE)
+
+
+def _method(eta_a, eta_b, nodes, method):
+    if method is not None and nodes is not None:
+        raise ValueError("give nodes (the spectral method's degree) or method, not both")
+    if method is not None:
+        return shellbvp.as_method(method)
+    if nodes is not None:
+        return Chebyshev(nodes=nodes)
+    return method_for(eta_a, eta_b)
+
+
+def branch(eta_a, eta_b, kbar_max=300.0, *, nodes=None, method=None, gammas="paper",
            options: ContinuationOptions | None = None, progress=None,
            energies=False) -> shellbvp.Branch:
     """The branch kbar(w) from the undeformed cap up to ``kbar_max``.
@@ -99,25 +143,33 @@ def branch(eta_a, eta_b, kbar_max=300.0, *, nodes=None, method=None,
     ``w``: the apex displacement relative to the clamped edge (R0, positive along +z).
     Folds passed are located and refined (``Branch.folds``). If the continuation stalls
     before kbar_max, the branch ends at its last converged point and ``Branch.stop`` says
-    why. ``nodes``: Chebyshev degree per piece (default 32); ``method`` overrides it.
+    why. ``method``: default :func:`method_for` the case; ``nodes``: the spectral method at
+    that Chebyshev degree per piece instead. The branch ends where the state stops being
+    admissible: for the spectral method where the Legendre condition fails at a node, for
+    the energy method where its Hessian at fixed kbar stops being positive definite
+    (:func:`shellbvp.stability.stable_point`, which says whether the reduced energy is
+    still elliptic there). ``gammas``: see :func:`scene`.
     """
     if not (isinstance(kbar_max, (int, float)) and math.isfinite(kbar_max) and kbar_max > 0):
         raise ValueError(f"kbar_max must be a finite number > 0, got {kbar_max!r}")
-    return shellbvp.follow(scene(eta_a, eta_b), method=method or _method(nodes), p0=0.0,
+    m = _method(eta_a, eta_b, nodes, method)
+    surface = isinstance(m, Ritz)
+    return shellbvp.follow(scene(eta_a, eta_b, gammas), method=m, p0=0.0,
                            p_stop=(0.0, float(kbar_max)), options=options or OPTIONS,
                            progress=progress, energies=energies, on_stall="stop",
-                           check_ellipticity=True)
+                           check_ellipticity=not surface, check_stability=surface)
 
 
-def equilibrium(eta_a, eta_b, kbar, *, nodes=None, method=None) -> shellbvp.Equilibrium:
+def equilibrium(eta_a, eta_b, kbar, *, nodes=None, method=None,
+                gammas="paper") -> shellbvp.Equilibrium:
     """The equilibrium at exactly ``kbar``, continued from the undeformed cap (raises
-    ConvergenceError if the branch stops before)."""
+    ConvergenceError if the branch stops before); arguments as in :func:`branch`."""
     if not (isinstance(kbar, (int, float)) and math.isfinite(kbar) and kbar >= 0):
         raise ValueError(f"kbar must be a finite number >= 0, got {kbar!r}")
-    m = method or _method(nodes)
+    m = _method(eta_a, eta_b, nodes, method)
     if kbar == 0:
-        return shellbvp.solve(scene(eta_a, eta_b), 0.0, method=m)
-    b = branch(eta_a, eta_b, kbar, method=m)
+        return shellbvp.solve(scene(eta_a, eta_b, gammas), 0.0, method=m)
+    b = branch(eta_a, eta_b, kbar, method=m, gammas=gammas)
     if b.p[-1] < kbar:
         raise shellbvp.ConvergenceError(f"the branch stops at kbar = {b.p[-1]:.6g} < {kbar:g}: "
                                         f"{b.stop}")

@@ -109,7 +109,9 @@ def stall_reason(system, pts, message) -> str:
     mid-surface method's own message, which says what its Hessian found)."""
     from .methods.base import MidSurface, implements
 
-    if len(pts) < 3 or implements(system, MidSurface):
+    if implements(system, MidSurface):
+        return _surface_stall(system, pts, message)
+    if len(pts) < 3:
         return message
     try:
         L0, _ = legendre_along(system, pts[0].U, pts[0].p)
@@ -132,3 +134,23 @@ def stall_reason(system, pts, message) -> str:
             f"{L0:.3g} at the start to {L2:.3g} at {name} = {p2:.6g}, extrapolating to zero "
             f"at {name} ~ {p_star:.6g}; the first-order system has no solution past it and "
             f"the reduced model no smooth one (solver: {message.splitlines()[0][:160]})")
+
+
+def _surface_stall(system, pts, message) -> str:
+    """A mid-surface method's stall: its own message (a Hessian veto says what it found),
+    or the solver's with what the Hessian and the Legendre condition are at the last point
+    (a stall where both are ~0 is a singular point of the reduced model)."""
+    if message.startswith("the discrete energy's Hessian") or not pts:
+        return message
+    last = pts[-1]
+    try:
+        sv = system.spectrum(last.U, last.p, count=1)
+        L, s_L = legendre_along(system, last.U, last.p)
+    except ConvergenceError:
+        return message
+    s_mode = float(sv.s[int(np.argmax(np.abs(sv.theta_modes[0])))])
+    name = system.scene.parameter
+    return (f"{message.splitlines()[0][:160]}; at the last point ({name} = {last.p:.6g}) the "
+            f"discrete energy's Hessian has its smallest eigenvalue {sv.eigenvalues[0]:.3g} "
+            f"(mode largest at s = {s_mode:.4g}) and the Legendre condition its minimum "
+            f"{L:.3g} at s = {s_L:.4g}")

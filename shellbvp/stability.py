@@ -189,31 +189,30 @@ def stable_point(system, pt) -> str:
     """"" if the Hessian of a mid-surface method's energy at point ``pt`` (fixed parameter,
     :meth:`shellbvp.methods.base.MidSurface.spectrum`) is positive definite, else why not,
     with where its softest mode lives and the Legendre condition there: the veto that ends
-    a branch followed with ``follow(..., check_stability=True)``."""
-    from .ellipticity import legendre_along
+    a branch followed with ``follow(..., check_stability=True)``. The Legendre condition
+    tells the two kinds of loss apart: where it has fallen to ~0 (below ``LEGENDRE_LOST``
+    of its value on the undeformed shell) the reduced energy stops being elliptic and the
+    discrete Hessian turns indefinite at a parameter value that moves with the resolution
+    (a limit of the model); elsewhere a zero eigenvalue is a fold or bifurcation of the
+    axisymmetric shell."""
+    from .ellipticity import LEGENDRE_LOST, legendre_along
 
     sv = system.spectrum(pt.U, pt.p, count=1)
     lam = float(sv.eigenvalues[0])
     if lam > 0:
         return ""
-    mode = np.abs(sv.theta_modes[0])
-    s_mode = float(sv.s[int(np.argmax(mode))])
+    s_mode = float(sv.s[int(np.argmax(np.abs(sv.theta_modes[0])))])
     L, s_L = legendre_along(system, pt.U, pt.p)
+    L0, _ = legendre_along(system, system.from_profile(system.bvp.reference), 0.0)
     name = system.scene.parameter
+    lost = L <= LEGENDRE_LOST * L0
+    verdict = ("the reduced energy is (nearly) not elliptic there: its loss of stability is "
+               "ill-posed and its parameter value depends on the resolution (a limit of the "
+               "reduced model, not a buckling load)" if lost else
+               "the reduced energy is elliptic: a fold or bifurcation of the axisymmetric "
+               "shell")
+    where = ", ".join(f"{k} {v}" for k, v in system.describe().items())
     return (f"the discrete energy's Hessian at fixed {name} loses positive definiteness "
             f"before {name} = {pt.p:.6g} (smallest eigenvalue {lam:.3g}, its mode largest at "
-            f"s = {s_mode:.4g}; Legendre condition min {L:.3g} at s = {s_L:.4g}); "
-            f"{_verdict(L, s_mode, s_L)} ({_resolution_text(system)})")
-
-
-def _verdict(L, s_mode, s_L) -> str:
-    if L <= 0:
-        return ("the reduced energy is not elliptic there: an ill-posed loss of stability "
-                "whose parameter value drifts with the resolution (a limit of the reduced "
-                "model, not a buckling load)")
-    return ("the reduced energy is elliptic everywhere: a fold or bifurcation of the shell, "
-            "to be confirmed by its convergence with the resolution")
-
-
-def _resolution_text(system) -> str:
-    return ", ".join(f"{k} {v}" for k, v in system.describe().items())
+            f"s = {s_mode:.4g}; Legendre condition min {L:.3g} at s = {s_L:.4g}, {L0:.3g} on "
+            f"the undeformed shell): {verdict} ({where})")

@@ -49,10 +49,17 @@ def test_scene_reads_like_the_paper():
     assert (sc.theta, sc.h, sc.lam, sc.edge, sc.apex) == (math.pi / 8, 0.02, 7.5, "clamped", "free")
     assert sc.breaks == (math.pi / 32,) and sc.metric
     assert not bd.scene(0.0, 1.0).metric
-    # equal L2 norms, the paper's rounded pairs
-    assert np.allclose(bd.gammas(0.5), (0.63, 1.26), atol=0.005)
-    assert np.allclose(bd.gammas(2.0), (1.26, 0.63), atol=0.005)
-    assert bd.gammas(1.0) == pytest.approx((1.0, 1.0))
+    # the paper's printed pairs ("we set eta_a = 0.63/1.26 = 0.5, 1/1, 1.26/0.63") by
+    # default, and the exact equal-L2-norm ones on request
+    assert bd.gammas(0.5) == (0.63, 1.26) and bd.gammas(2.0) == (1.26, 0.63)
+    assert bd.gammas(1.0) == (1.0, 1.0)
+    exact = bd.gammas(0.5, "equal-norm")
+    assert exact[0] / exact[1] == pytest.approx(0.5) and np.hypot(*exact) == pytest.approx(
+        math.sqrt(2))
+    assert np.allclose(exact, bd.gammas(0.5), atol=0.005)
+    assert bd.scene(0.5, 1.0, gammas="equal-norm").field_parameters[:2] == exact
+    with pytest.raises(ValueError, match="gammas"):
+        bd.scene(0.5, 1.0, gammas="rounded")
     # fields: on the patch g^2 = 1 + gamma_a kbar / 5, kb = -(1 + gamma_b kbar) / g^2
     ga, gb = bd.gammas(0.5), bd.gammas(2.0)
     g1, g2, kb1, kb2 = sc.field_values(0, 0.01, 10.0)

@@ -28,8 +28,9 @@ What it does not need:
   quadrature points lie inside the elements, never at s = 0. Where the target is a cone at
   the apex (g1 != g2) or its curvature is anisotropic there (kb1 != kb2), the solution is
   singular at s = 0 (curvatures ~ log s); the elements are then graded geometrically
-  toward the apex (``layers`` layers, each ``grading`` times the next), the hp-refinement
-  that resolves such singularities (Babuska & Guo): w converges, the apex strains do not.
+  toward the apex (``layers`` layers, each ``grading`` times the next, down to a tenth of
+  the thickness, below which the thin-shell energy is not valid), the hp-refinement that
+  resolves such singularities (Babuska & Guo): w converges, the apex strains do not.
 
 Boundary conditions: clamped edge theta(Theta) = Theta, r(Theta) = sin Theta (Dirichlet);
 a free edge has none (M = F_r = 0 are natural). The vertical position z never enters the
@@ -73,7 +74,9 @@ class Ritz:
         layers: geometric layers toward the apex in the first piece; None (default): none
             where the apex is regular, and where it is singular (a conical target,
             g1 != g2, or an anisotropic target curvature, kb1 != kb2, at s = 0) enough that
-            the innermost element is ``APEX_CORE`` of the first (11 at grading 0.15).
+            the innermost element is ``APEX_CORE`` thicknesses long (``APEX_CORE``: below
+            the thickness the thin-shell energy is not valid, and its log-singular apex
+            curvatures make it non-elliptic there).
         grading: ratio of the lengths of consecutive layers (0 < grading < 1).
     """
 
@@ -102,14 +105,20 @@ class Ritz:
         return RitzSystem(bvp, self)
 
 
-#: the innermost element of the apex layers, relative to the first piece's element: a
-#: curvature ~ log s there changes the energy by ~ (APEX_CORE log APEX_CORE)^2, below round-off
-APEX_CORE = 1e-9
+#: length of the innermost element of the apex layers, in thicknesses h. The reduced energy
+#: is a thin-shell expansion, valid where the curvatures vary on lengths >> h; at a
+#: singular apex its solution has curvatures ~ log s, which below s ~ h reach h|k| >~ 1 and
+#: make W non-convex there, so that resolving the apex deeper moves where the discrete
+#: Hessian turns indefinite (budding eta = (0.5, 1): kbar = 2.44, 1.40, 0.98 with innermost
+#: elements 4e-8, 1e-10, 4e-13 R0) while w does not change (eta = (0, 0.5), kbar = 20:
+#: w = 0.0258381199, ...218, ...218 with 2, 4 and 6 layers, innermost 1e-3, 2.5e-5, 6e-7)
+APEX_CORE = 0.1
 
 
-def auto_layers(grading: float) -> int:
-    """Geometric layers whose innermost element is APEX_CORE of the first element."""
-    return math.ceil(math.log(APEX_CORE) / math.log(grading))
+def auto_layers(grading: float, first: float, h: float) -> int:
+    """Geometric layers that take the first element (length ``first``) down to an innermost
+    element of APEX_CORE h (none where the first element is already that short)."""
+    return max(0, math.ceil(math.log(APEX_CORE * h / first) / math.log(grading)))
 
 
 def singular_apex(scene) -> bool:
@@ -321,9 +330,10 @@ class RitzSystem:
         q = self.q = int(method.degree)
         self.nq = quadrature_points(q)
         self.singular = singular_apex(sc)
-        self.layers = (auto_layers(method.grading) if self.singular else 0) \
-            if method.layers is None else int(method.layers)
         ends = (0.0,) + sc.breaks + (sc.theta,)
+        first = (ends[1] - ends[0]) / method.elements
+        self.layers = (auto_layers(method.grading, first, sc.h) if self.singular else 0) \
+            if method.layers is None else int(method.layers)
         P = self.P = sc.pieces
         edges, counts = [], []
         for i in range(P):
@@ -466,14 +476,20 @@ class RitzSystem:
         s_nodes = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
         Y = np.asarray(profile(s_nodes), dtype=float)
         x[:nodes], x[off_r:off_r + nodes] = Y[2], Y[0]
-        # Lambda per element node, by a difference kept inside the element's piece
+        # Lambda per element node, by second-order differences kept inside the element's
+        # piece (central, or one-sided at a piece's ends, where Lambda may jump)
         lo = self.piece_ends[self.element_piece][:, None]
         hi = self.piece_ends[self.element_piece + 1][:, None]
-        d = 1e-6 * (hi - lo)
-        sa, sb = np.maximum(self.sn - d, lo), np.minimum(self.sn + d, hi)
-        Ya, Yb = (np.asarray(profile(v.ravel()), dtype=float).reshape(6, E, q + 1)
-                  for v in (sa, sb))
-        Lam = np.hypot(Yb[0] - Ya[0], Yb[1] - Ya[1]) / (sb - sa)
+        d = 1e-5 * (hi - lo)
+        side = np.where(self.sn - d < lo, 1.0, np.where(self.sn + d > hi, -1.0, 0.0))
+        shift = np.stack([self.sn + (side + k) * d for k in (-1.0, 0.0, 1.0)])
+        shift = np.clip(shift, lo, hi)
+        Ys = np.asarray(profile(shift.ravel()), dtype=float).reshape(6, 3, E, q + 1)
+        c = np.zeros((3, E, q + 1))
+        c[:, side == 0] = np.array([-0.5, 0.0, 0.5])[:, None]
+        c[:, side > 0] = np.array([-1.5, 2.0, -0.5])[:, None]
+        c[:, side < 0] = np.array([0.5, -2.0, 1.5])[:, None]
+        Lam = np.hypot(np.sum(c * Ys[0], axis=0), np.sum(c * Ys[1], axis=0)) / d
         x[self.idx[:, q + 1:2 * q + 2]] = Lam
         sc_ = self.ea[:, None] + self.L[:, None] * self.tc[None, :]
         x[off_f:] = np.asarray(profile(sc_.ravel()), dtype=float)[4]

@@ -1,0 +1,143 @@
+"""The energy method (shellbvp.Ritz): direct minimisation of the discrete reduced energy.
+
+References are independent of this method: the spectral method's solutions of the
+Euler-Lagrange system (another formulation: inner inversion, pole conditions), its
+energy quadrature, finite differences of the method's own residual, and the undeformed cap.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import shellbvp
+from shellbvp import Chebyshev, ContinuationOptions, Ritz
+from shellbvp.bvp import ShellBVP
+from shellbvp.problems import budding
+from shellbvp.problems import cap_eversion as ce
+
+DEG = 16                 # one compiled program shared by these tests
+
+
+@pytest.fixture(scope="module")
+def cap():
+    return ce.scene(theta=math.pi / 6, h=0.01, lam=1.0, model="relaxed")
+
+
+@pytest.fixture(scope="module")
+def cap_system(cap):
+    return Ritz(degree=DEG).discretise(ShellBVP(cap))
+
+
+def test_undeformed_cap_is_stationary_at_zero_stimulus(cap, cap_system):
+    U0 = cap_system.from_profile(cap_system.bvp.reference)   # Lambda by differences: ~1e-11
+    R, _, _ = cap_system.evaluate(U0, 0.0)
+    m, _ = cap_system.monitor(U0)
+    assert np.abs(R).max() < 1e-10 and abs(m) < 1e-10
+    eq = shellbvp.solve(cap, 0.0, method=Ritz(degree=DEG), estimate_error=False)
+    assert abs(eq.w) < 1e-14
+    assert np.allclose(eq.r, np.sin(eq.s), atol=1e-14)
+    assert np.allclose(eq.theta, eq.s, atol=1e-14)
+    assert np.allclose(eq.lam1, 1.0, atol=1e-13) and np.allclose(eq.k2, -1.0, atol=1e-12)
+    # and it is stable: the Hessian at zero stimulus is positive definite
+    assert cap_system.spectrum(U0, 0.0, count=1).eigenvalues[0] > 0
+
+
+def test_jacobian_and_parameter_derivative_against_differences(cap_system):
+    rng = np.random.default_rng(1)
+    U = cap_system.from_profile(cap_system.bvp.reference) + 1e-3 * rng.standard_normal(
+        cap_system.size)
+    R, J, Rp = cap_system.evaluate(U, 1.5)
+    assert abs(J - J.T).max() < 1e-12 * abs(J).max()          # a Hessian: symmetric
+    v, e = rng.standard_normal(U.size), 1e-6
+    d = (cap_system.evaluate(U + e * v, 1.5)[0] - cap_system.evaluate(U - e * v, 1.5)[0]) / (2 * e)
+    assert np.abs(d - J @ v).max() < 1e-6 * np.abs(J @ v).max()
+    dp = (cap_system.evaluate(U, 1.5 + e)[0] - cap_system.evaluate(U, 1.5 - e)[0]) / (2 * e)
+    assert np.abs(dp - Rp).max() < 1e-6 * np.abs(Rp).max()
+    m, dm = cap_system.monitor(U)
+    fd = (cap_system.monitor(U + e * v)[0] - cap_system.monitor(U - e * v)[0]) / (2 * e)
+    assert fd == pytest.approx(dm @ v, rel=1e-7)
+
+
+def test_snap_curvature_agrees_with_the_first_order_system(cap):
+    """kappa_s by the energy method (its own fold ladder) against the spectral solution of
+    the Euler-Lagrange system (another formulation), both to 1e-10."""
+    br = shellbvp.follow(cap, method=Ritz(degree=DEG), n_folds=1, energies=False,
+                         options=ContinuationOptions.to_first_fold(1e-10))
+    fold = br.folds[0]
+    ref = ce.snap_curvature(math.pi / 6, 0.01, 1.0, tol=1e-10)
+    assert abs(fold.p - ref.kappa_s) <= fold.error_estimate + ref.error_estimate + 1e-12
+    assert fold.error_estimate < 1e-10
+    assert fold.w == pytest.approx(ref.w_s, abs=1e-8)
+    # at the fold the Hessian at fixed kappa is singular (the fold of the axisymmetric
+    # branch): its smallest eigenvalue vanishes to the fold's accuracy, the next does not
+    sv = fold.system.spectrum(fold.U, fold.p, count=2)
+    assert abs(sv.eigenvalues[0]) < 1e-6 * sv.eigenvalues[1]
+
+
+def test_budding_at_kbar_20_agrees_with_the_spectral_method():
+    """w_apex and the energy at kbar = 20 (eta_a = 0, eta_b = 1): the energy method's own
+    quadrature against the spectral equilibrium's (another discretisation and quadrature)."""
+    a = budding.equilibrium(0.0, 1.0, 20.0, method=Ritz(degree=DEG))
+    b = budding.equilibrium(0.0, 1.0, 20.0, method=Chebyshev(nodes=48))
+    assert a.w == pytest.approx(b.w, abs=1e-10)
+    assert a.energy == pytest.approx(b.energy, rel=1e-9)
+    assert a.stats["method"] == "energy"
+    # the shape along the meridian (each solution's own interpolant), and the meridional
+    # force: from the multipliers of r' = Lambda cos(theta) here, an unknown there
+    s = np.linspace(0.01, budding.THETA, 40)
+    ya, yb = a(s), b(s)
+    assert np.allclose(ya[[0, 2]], yb[[0, 2]], atol=1e-9)
+    assert np.allclose(ya[1] - ya[1, -1], yb[1] - yb[1, -1], atol=1e-9)
+    assert np.allclose(ya[4], yb[4], atol=1e-8 * np.abs(yb[4]).max())
+
+
+@pytest.mark.slow
+def test_observed_convergence_at_a_singular_apex():
+    """eta = (0, 0.5): the target curvature is anisotropic at the apex (curvatures ~ log s);
+    on the graded elements w converges with the degree (measured: changes 1.8e-9, 1.4e-10,
+    4.6e-11 from degree 8 to 12, 16, 20: fast, then slower, as the innermost element's
+    singular part dominates) and agrees with the spectral solution of the first-order
+    system, whose anisotropic pole condition (k1 - k2 = A) treats the same singularity."""
+    w = [budding.equilibrium(0.0, 0.5, 10.0, method=Ritz(degree=q)).w for q in (8, 12, 16, 20)]
+    d = np.abs(np.diff(w))
+    assert d[0] > d[1] > d[2] and d[1] < 0.2 * d[0] and d[2] < 1e-10
+    ref = budding.equilibrium(0.0, 0.5, 10.0, method=Chebyshev(nodes=48)).w
+    assert abs(w[-1] - ref) < 1e-8
+
+
+@pytest.mark.parametrize("kwargs,name", [(dict(degree=3), "degree"), (dict(elements=0), "elements"),
+                                         (dict(layers=-1), "layers"), (dict(grading=1.5), "grading")])
+def test_bad_options_are_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        Ritz(**kwargs)
+
+
+def test_a_point_force_it_cannot_represent_is_refused():
+    sc = shellbvp.Scene(theta=0.5, h=0.01, apex="held", edge="clamped")
+    with pytest.raises(ValueError, match="point force"):
+        shellbvp.solve(sc, 1.0, method="energy")
+
+
+def test_stability_check_needs_a_mid_surface_method(cap):
+    with pytest.raises(ValueError, match="check_stability"):
+        shellbvp.follow(cap, check_stability=True)
+
+
+def test_energy_method_equilibrium_is_stationary_by_an_independent_quadrature():
+    """eta = (0, 1), kbar = 20: the first variation of the reduced energy,
+    by Simpson's rule on 3000 panels with complex steps through the first-order system's own
+    state (tests/test_budding.py), vanishes at the energy method's equilibrium relative to
+    its value at a state that is not an equilibrium."""
+    from dataclasses import replace
+
+    from test_budding import _first_variation
+
+    T = budding.THETA
+    w = 2 * math.pi / T
+    directions = [(lambda s: np.sin(w * s) ** 2, lambda s: w * np.sin(2 * w * s), lambda s: 0 * s),
+                  (lambda s: 0 * s, lambda s: 0 * s, lambda s: 1 + s)]
+    eq = budding.equilibrium(0.0, 1.0, 20.0, method=Ritz(degree=DEG))
+    off = replace(budding.equilibrium(0.0, 1.0, 10.0, method=Ritz(degree=DEG)), p=20.0)
+    for a, b in zip(_first_variation(eq, directions), _first_variation(off, directions)):
+        assert abs(b) > 1e-6 and abs(a) <= 1e-6 * abs(b)
