@@ -49,8 +49,9 @@ def _common(p, theta=True):
     p.add_argument("--tol", type=float, default=1e-9,
                    help="target accuracy of kappa_s, in (0, 1) (default 1e-9)")
     p.add_argument("--method", default="spectral",
-                   choices=["spectral", "shooting", "collocation"],
-                   help="discretisation (default spectral: Chebyshev collocation)")
+                   choices=["spectral", "shooting", "collocation", "energy"],
+                   help="discretisation (default spectral: Chebyshev collocation; energy: "
+                        "direct minimisation of the discrete energy)")
 
 
 def _sweep(a, ce, opts) -> int:

@@ -79,7 +79,7 @@ def test_budding_at_kbar_20_agrees_with_the_spectral_method():
     """w_apex and the energy at kbar = 20 (eta_a = 0, eta_b = 1): the energy method's own
     quadrature against the spectral equilibrium's (another discretisation and quadrature)."""
     a = budding.equilibrium(0.0, 1.0, 20.0, method=Ritz(degree=DEG))
-    b = budding.equilibrium(0.0, 1.0, 20.0, method=Chebyshev(nodes=48))
+    b = budding.equilibrium(0.0, 1.0, 20.0, method=Chebyshev(nodes=32))
     assert a.w == pytest.approx(b.w, abs=1e-10)
     assert a.energy == pytest.approx(b.energy, rel=1e-9)
     assert a.stats["method"] == "energy"
@@ -141,3 +141,41 @@ def test_energy_method_equilibrium_is_stationary_by_an_independent_quadrature():
     off = replace(budding.equilibrium(0.0, 1.0, 10.0, method=Ritz(degree=DEG)), p=20.0)
     for a, b in zip(_first_variation(eq, directions), _first_variation(off, directions)):
         assert abs(b) > 1e-6 and abs(a) <= 1e-6 * abs(b)
+
+
+@pytest.mark.parametrize("lambda_B", [5.5])
+def test_pressure_cap_agrees_with_the_spectral_method(lambda_B):
+    """A clamped Koiter cap under follower pressure (R/t = 100, nu = 0.3): p_cr / p0 by both
+    formulations, each refined to 1e-9 (measured: 0.75425120992 both, 8e-13 apart;
+    lambda_B = 4 and 8: 8e-14 and 9e-13)."""
+    from shellbvp.problems import pressure_cap as pc
+
+    a = pc.critical_pressure(lambda_B, tol=1e-9, method=Ritz(degree=DEG))
+    b = pc.critical_pressure(lambda_B, tol=1e-9)
+    assert a.branch.stats["method"] == "energy"
+    assert abs(a.p_cr_over_p0 - b.p_cr_over_p0) <= a.error_estimate + b.error_estimate
+    assert a.w_apex == pytest.approx(b.w_apex, abs=1e-8)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("T,lam,model,material", [(3.0, 0.01, "relaxed", "cg"),
+                                                  (8.0, 10.0, "plane_strain", "cg"),
+                                                  (5.0, 1.0, "relaxed", "nh")])
+def test_fig3_caps_agree_with_the_spectral_method(T, lam, model, material):
+    """kappa_s of caps of Fig. 3's set (h = 0.01) by both formulations, to 1e-9 each."""
+    h = 0.01
+    kw = dict(lam=lam, model=model) if material == "cg" else {}
+    sc = ce.scene(theta=T * math.sqrt(h), h=h, material=material, **kw)
+    br = shellbvp.follow(sc, method=Ritz(degree=DEG), n_folds=1, energies=False,
+                         options=ContinuationOptions.to_first_fold(1e-9))
+    ref = ce.snap_curvature(T * math.sqrt(h), h, material=material, tol=1e-9, **kw)
+    f = br.folds[0]
+    assert abs(f.p - ref.kappa_s) <= f.error_estimate + ref.error_estimate
+
+
+def test_command_line_snap_with_the_energy_method(capsys):
+    from shellbvp import cli
+
+    assert cli.main(["snap", "--method", "energy", "--tol", "1e-9"]) == 0
+    out = capsys.readouterr().out
+    assert "4.22142913" in out
