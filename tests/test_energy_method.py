@@ -179,3 +179,21 @@ def test_command_line_snap_with_the_energy_method(capsys):
     assert cli.main(["snap", "--method", "energy", "--tol", "1e-9"]) == 0
     out = capsys.readouterr().out
     assert "4.22142913" in out
+
+
+@pytest.mark.slow
+def test_observed_convergence_at_a_cone_apex():
+    """eta = (2, 1), kbar = 20: the target is a deficit cone at the apex. w_apex and the hoop
+    strain away from the apex converge with the degree (measured: w changes 2.0e-7, 1.2e-8,
+    ~1e-12 from degree 8 to 12, 16, 20), the strain next to the apex does not (it grows like
+    log s as the first node moves toward the apex)."""
+    out = []
+    for q in (8, 12, 16, 20):
+        eq = budding.equilibrium(2.0, 1.0, 20.0, method=Ritz(degree=q))
+        r = eq(np.array([0.3]))[0][0]
+        out.append((eq.w, ((r / math.sin(0.3)) ** 2 - 1) / 2, eq.eps22[0]))
+    w, e_far, e_apex = np.array(out).T
+    dw, de = np.abs(np.diff(w)), np.abs(np.diff(e_far))
+    assert dw[1] < 0.2 * dw[0] and dw[2] < 1e-10
+    assert de[2] < 1e-9
+    assert np.all(np.diff(e_apex) < -1e-3)       # the apex strain keeps moving

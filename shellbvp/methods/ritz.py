@@ -284,7 +284,7 @@ def _programs(model, material, rhob1, fields, pressure, pieces, q, nq, n_c):
                        -(V[..., 1] / L[:, None]) / Lam, -jnp.sin(th) / r], axis=-1)
         return X, F, 0.5 * P * r * r * Lam * jnp.sin(th)
 
-    return jax.jit(evaluate), jax.jit(energy), jax.jit(field_values)
+    return jax.jit(evaluate), jax.jit(energy)
 
 
 @lru_cache(maxsize=None)
@@ -400,7 +400,7 @@ class RitzSystem:
         keep = (rows >= 0) & (cols >= 0)
         self._keep = keep.ravel()
         self._rows, self._cols = rows.ravel()[self._keep], cols.ravel()[self._keep]
-        self._evaluate, self._energy, self._fields = _programs(
+        self._evaluate, self._energy = _programs(
             sc.model, sc.material, float(sc.rhob1), sc.fields, sc.pressure, self.pieces, q,
             self.nq, len(sc.field_parameters))
         self._c = np.asarray(sc.field_parameters, dtype=float)
@@ -456,14 +456,21 @@ class RitzSystem:
         return R, J, Rp
 
     def monitor(self, U):
+        """(m, dm/dU): w / H, from I = int Lambda sin(theta) ds by the energy quadrature
+        (the last evaluation's when it was at U)."""
         if self._monitor is not None and np.array_equal(self._monitor[0], U):
             return self._monitor[1]
-        xl = self.local(U)
-        _, _, _, I, dI, _ = self._evaluate(xl, *self._args(0.0))
+        _, _, wq, _, _, BE, _ = _element(self.q, self.nq)
+        V = np.einsum("gkn,en->egk", BE, self.local(U))
+        w = self.L[:, None] * wq[None, :]
+        I = float(np.sum(V[..., 2] * np.sin(V[..., 0]) * w))
+        dV = np.zeros_like(V)
+        dV[..., 0] = V[..., 2] * np.cos(V[..., 0]) * w
+        dV[..., 2] = np.sin(V[..., 0]) * w
+        dI = np.einsum("gkn,egk->en", BE, dV)
         H0 = self.bvp.rise
-        dm = np.bincount(self.idx.ravel(), np.asarray(dI).ravel(), self.n_full)[self.free] \
-            / self.scale
-        return self._sign() * (float(I) - H0) / H0, self._sign() * dm / H0
+        dm = np.bincount(self.idx.ravel(), dI.ravel(), self.n_full)[self.free] / self.scale
+        return self._sign() * (I - H0) / H0, self._sign() * dm / H0
 
     # --- profiles -------------------------------------------------------------------------
     def from_profile(self, profile) -> np.ndarray:
@@ -649,6 +656,8 @@ class RitzSystem:
         return self
 
     def describe(self) -> dict:
+        """The resolution: degree per element, elements in all (the apex layers included)
+        and the apex layers."""
         return {"method": "energy", "degree": self.q, "elements": self.E,
                 "layers": self.layers}
 
