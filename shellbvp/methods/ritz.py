@@ -16,7 +16,8 @@ element with multipliers f = 12/h^2 F_r (the meridional force per radian, scaled
 first-order system scales it). The discrete system is R = grad L = 0 for the Lagrangian
 L = E + 2 pi int (h^2/12) f (r' - Lambda cos theta) ds, its Jacobian the Hessian of L,
 both exact (JAX, per quadrature point, assembled through the elements' fixed linear maps
-into a sparse symmetric matrix). It plugs into the same continuation, fold location and
+into a sparse symmetric matrix; the point kernel is compiled once per material, at a fixed
+number of points, and serves every degree, mesh and scene). It plugs into the same continuation, fold location and
 refinement ladder as every other method.
 
 What it does not need:
@@ -199,32 +200,38 @@ def quadrature_points(q: int) -> int:
 
 
 # --- compiled programs ----------------------------------------------------------------------
+#: points per call of the compiled point kernels (padded): one program serves every degree,
+#: mesh and scene of a material (compiling the Hessian of a relaxed W takes ~4 s)
+CHUNK = 256
+
+
+def _padded(fn, n, arrays, scalars):
+    """``fn`` on ``n`` points in chunks of CHUNK (the arrays' first axis padded with their
+    last point), outputs concatenated and trimmed to n."""
+    outs = []
+    for start in range(0, n, CHUNK):
+        idx = np.minimum(np.arange(start, start + CHUNK), n - 1)
+        outs.append([np.asarray(o) for o in fn(*[a[idx] for a in arrays], *scalars)])
+    return [np.concatenate(parts)[:n] for parts in zip(*outs)]
+
+
 @lru_cache(maxsize=None)
-def _programs(model, material, rhob1, fields, pressure, pieces, q, nq, n_c):
-    """The compiled element computations of a scene's energy: ``pieces`` is the number of
-    elements of every piece (static: the fields are called piece by piece)."""
+def _point_kernels(model, material, rhob1):
+    """Per quadrature point, for the energy density of the Lagrangian
+
+        phi(v; s, L, F, P) = W(Lambda/g1, r/(g2 sin s), -(theta_t/L)/Lambda, -sin(theta)/r)
+                             g1 g2 sin s + (P/2) r^2 Lambda sin(theta),
+
+    v = (theta, theta_t, Lambda, r) (theta_t = dtheta/dt on an element of length L):
+    ``phi_kernel`` -> (gradient (n, 4), Hessian (n, 4, 4), d gradient / dp (n, 4) along the
+    fields' and the pressure's derivatives dF, dP); ``w_kernel`` -> gradient and Hessian of
+    W in X = (lam1, lam2, k1, k2). Compiled once per material, at CHUNK points."""
     from ..jaxsetup import jax
     import jax.numpy as jnp
 
     from ..compiled import energy_function
-    from ..scene import call_fields
 
     W = energy_function(model, material, rhob1)
-    _, _, wq, _, wc, BE, BC = _element(q, nq)
-    BE, BC, wq, wc = (jnp.asarray(a) for a in (BE, BC, wq, wc))
-    bounds = np.cumsum((0,) + pieces)
-
-    def field_values(sq, p, c):
-        out = []
-        for i in range(len(pieces)):
-            s_i = sq[bounds[i]:bounds[i + 1]]
-            F = call_fields(fields, i, s_i, p, c)
-            out.append(jnp.stack([jnp.broadcast_to(jnp.asarray(v, dtype=float), s_i.shape)
-                                  for v in F], axis=-1))
-        return jnp.concatenate(out, axis=0)                       # (E, nq, 4)
-
-    def load(p):
-        return 0.0 if pressure is None else jnp.asarray(pressure(p), dtype=float)
 
     def phi(v, s, L, F, P, mat, h):
         th, tht, Lam, r = v
@@ -235,77 +242,68 @@ def _programs(model, material, rhob1, fields, pressure, pieces, q, nq, n_c):
         return (W(lam1, lam2, k1, k2, kb1, kb2, mat, h) * g1 * g2 * sn
                 + 0.5 * P * r * r * Lam * jnp.sin(th))
 
-    def psi(u, L, h):
-        th, Lam, rt, f = u
-        return h * h / 12.0 * f * (rt / L - Lam * jnp.cos(th))
+    pts = (0, 0, 0, 0, None, None, None)
+    grad = jax.vmap(jax.grad(phi), pts)
+    hess = jax.vmap(jax.hessian(phi), pts)
 
-    over_points = (0, 0, None, 0, None, None, None)      # vmap over the points of an element
-    phi_g = jax.vmap(jax.vmap(jax.grad(phi), over_points), (0, 0, 0, 0, None, None, None))
-    phi_h = jax.vmap(jax.vmap(jax.hessian(phi), over_points), (0, 0, 0, 0, None, None, None))
-    psi_g = jax.vmap(jax.vmap(jax.grad(psi), (0, None, None)), (0, 0, None))
-    psi_h = jax.vmap(jax.vmap(jax.hessian(psi), (0, None, None)), (0, 0, None))
-
-    def gradient(xl, sq, L, p, mat, h, c):
-        V = jnp.einsum("gkn,en->egk", BE, xl)
-        U = jnp.einsum("gkn,en->egk", BC, xl)
-        F, P = field_values(sq, p, c), load(p)
-        we = 2 * jnp.pi * L[:, None, None] * wq[None, :, None]
-        wk = 2 * jnp.pi * L[:, None, None] * wc[None, :, None]
-        gE = phi_g(V, sq, L, F, P, mat, h) * we
-        gC = psi_g(U, L, h) * wk
-        return jnp.einsum("gkn,egk->en", BE, gE) + jnp.einsum("gkn,egk->en", BC, gC)
-
-    def evaluate(xl, sq, L, p, mat, h, c):
-        V = jnp.einsum("gkn,en->egk", BE, xl)
-        U = jnp.einsum("gkn,en->egk", BC, xl)
-        F, P = field_values(sq, p, c), load(p)
-        we = 2 * jnp.pi * L[:, None, None, None] * wq[None, :, None, None]
-        wk = 2 * jnp.pi * L[:, None, None, None] * wc[None, :, None, None]
-        HE = phi_h(V, sq, L, F, P, mat, h) * we
-        HC = psi_h(U, L, h) * wk
-        H = (jnp.einsum("gkn,egkl,glm->enm", BE, HE, BE)
-             + jnp.einsum("gkn,egkl,glm->enm", BC, HC, BC))
-        g, gp = jax.jvp(lambda p_: gradient(xl, sq, L, p_, mat, h, c), (p,), (1.0,))
-        # the observable's integral I = int Lambda sin(theta) ds and its gradient
-        dI = jnp.stack([V[..., 2] * jnp.cos(V[..., 0]), V[..., 2] * 0.0,
-                        jnp.sin(V[..., 0]), V[..., 2] * 0.0], axis=-1) \
-            * (L[:, None, None] * wq[None, :, None])
-        I = jnp.sum(V[..., 2] * jnp.sin(V[..., 0]) * L[:, None] * wq[None, :])
-        ok = jnp.all(V[..., 2] > 0)
-        return g, H, gp, I, jnp.einsum("gkn,egk->en", BE, dI), ok
-
-    def energy(xl, sq, L, p, mat, h, c):
-        """The energy's two parts (W, pressure) per element quadrature point."""
-        V = jnp.einsum("gkn,en->egk", BE, xl)
-        F, P = field_values(sq, p, c), load(p)
-        th, Lam, r = V[..., 0], V[..., 2], V[..., 3]
-        sn = jnp.sin(sq)
-        X = jnp.stack([Lam / F[..., 0], r / (F[..., 1] * sn),
-                       -(V[..., 1] / L[:, None]) / Lam, -jnp.sin(th) / r], axis=-1)
-        return X, F, 0.5 * P * r * r * Lam * jnp.sin(th)
-
-    return jax.jit(evaluate), jax.jit(energy)
-
-
-@lru_cache(maxsize=None)
-def _w_derivatives(model, material, rhob1):
-    """X (n, 4), kb1, kb2 (n,), mat, h -> (gradient (n, 4), Hessian (n, 4, 4)) of W in
-    X = (lam1, lam2, k1, k2)."""
-    from ..jaxsetup import jax
-    import jax.numpy as jnp
-
-    from ..compiled import energy_function
-
-    W = energy_function(model, material, rhob1)
+    def phi_kernel(V, s, L, F, dF, P, dP, mat, h):
+        g, gp = jax.jvp(lambda F_, P_: grad(V, s, L, F_, P_, mat, h), (F, P), (dF, dP))
+        return g, hess(V, s, L, F, P, mat, h), gp
 
     def w(X, kb1, kb2, mat, h):
         return W(X[0], X[1], X[2], X[3], kb1, kb2, mat, h)
 
     one = (0, 0, 0, None, None)
-    g = jax.vmap(jax.grad(w), one)
-    H = jax.vmap(jax.hessian(w), one)
-    return jax.jit(lambda X, kb1, kb2, mat, h: (g(X, kb1, kb2, mat, h),
-                                                H(X, kb1, kb2, mat, h)))
+    w_grad, w_hess = jax.vmap(jax.grad(w), one), jax.vmap(jax.hessian(w), one)
+    return (jax.jit(phi_kernel),
+            jax.jit(lambda X, kb1, kb2, mat, h: (w_grad(X, kb1, kb2, mat, h),
+                                                 w_hess(X, kb1, kb2, mat, h))))
+
+
+@lru_cache(maxsize=None)
+def _fields_program(fields, pressure, pieces, n_c):
+    """(s (E, k), p, c) -> fields (E, k, 4), their p-derivative, pressure P and dP/dp, the
+    fields called piece by piece (``pieces``: elements per piece); small, compiled per mesh."""
+    from ..jaxsetup import jax
+    import jax.numpy as jnp
+
+    from ..scene import call_fields
+
+    bounds = np.cumsum((0,) + pieces)
+
+    def values(s, p, c):
+        out = []
+        for i in range(len(pieces)):
+            s_i = s[bounds[i]:bounds[i + 1]]
+            F = call_fields(fields, i, s_i, p, c)
+            out.append(jnp.stack([jnp.broadcast_to(jnp.asarray(v, dtype=float), s_i.shape)
+                                  for v in F], axis=-1))
+        P = 0.0 * p if pressure is None else jnp.asarray(pressure(p), dtype=float)
+        return jnp.concatenate(out, axis=0), P
+
+    def with_derivative(s, p, c):
+        (F, P), (dF, dP) = jax.jvp(lambda p_: values(s, p_, c), (p,), (1.0,))
+        return F, dF, P, dP
+
+    return jax.jit(with_derivative)
+
+
+def _constraint_terms(U, L, h):
+    """Gradient (E, q, 4) and Hessian (E, q, 4, 4) of psi = (h^2/12) f (r_t/L - Lambda
+    cos(theta)) in u = (theta, Lambda, r_t, f) at the collocation points (by hand: it is
+    that short)."""
+    th, Lam, rt, f = np.moveaxis(U, -1, 0)
+    c, s = np.cos(th), np.sin(th)
+    k = h * h / 12.0
+    Lb = np.broadcast_to(L[:, None], th.shape)
+    g = k * np.stack([f * Lam * s, -f * c, f / Lb, rt / Lb - Lam * c], axis=-1)
+    H = np.zeros(th.shape + (4, 4))
+    H[..., 0, 0] = k * f * Lam * c
+    H[..., 0, 1] = H[..., 1, 0] = k * f * s
+    H[..., 0, 3] = H[..., 3, 0] = k * Lam * s
+    H[..., 1, 3] = H[..., 3, 1] = -k * c
+    H[..., 2, 3] = H[..., 3, 2] = k / Lb
+    return g, H
 
 
 # --- the discrete system --------------------------------------------------------------------
@@ -400,9 +398,9 @@ class RitzSystem:
         keep = (rows >= 0) & (cols >= 0)
         self._keep = keep.ravel()
         self._rows, self._cols = rows.ravel()[self._keep], cols.ravel()[self._keep]
-        self._evaluate, self._energy = _programs(
-            sc.model, sc.material, float(sc.rhob1), sc.fields, sc.pressure, self.pieces, q,
-            self.nq, len(sc.field_parameters))
+        self._phi, self._w = _point_kernels(sc.model, sc.material, float(sc.rhob1))
+        self._fields = _fields_program(sc.fields, sc.pressure, self.pieces,
+                                       len(sc.field_parameters))
         self._c = np.asarray(sc.field_parameters, dtype=float)
         self.evaluations = 0
         self._monitor = None
@@ -422,46 +420,62 @@ class RitzSystem:
         # both as displacements from the reference (I = H there), in rises H
         return -1.0 if self.scene.edge == "free" else 1.0
 
-    def _args(self, p):
-        sc = self.scene
-        return (self.sq, self.L, float(p), sc.material_parameter, sc.h, self._c)
+    def _points(self, U, p):
+        """The state at the energy points V (E, nq, 4), the collocation points (E, q, 4),
+        the fields there (E, nq, 4), their p-derivative, and the pressure with its
+        p-derivative."""
+        _, _, _, _, _, BE, BC = _element(self.q, self.nq)
+        xl = self.local(U)
+        F, dF, P, dP = (np.asarray(a) for a in self._fields(self.sq, float(p), self._c))
+        return (np.einsum("gkn,en->egk", BE, xl), np.einsum("gkn,en->egk", BC, xl),
+                F, dF, float(P), float(dP))
 
     # --- the system -----------------------------------------------------------------------
     def evaluate(self, U, p):
         import scipy.sparse as sps
 
-        xl = self.local(U)
-        g, H, gp, I, dI, ok = self._evaluate(xl, *self._args(p))
+        from ..errors import ConvergenceError
+
+        sc, q, nq, E = self.scene, self.q, self.nq, self.E
+        _, _, wq, _, wc, BE, BC = _element(q, nq)
+        V, Uc, F, dF, P, dP = self._points(U, p)
         self.evaluations += 1
         self.bvp.evaluations += 1
-        if not bool(ok):
-            from ..errors import ConvergenceError
-
+        if not np.all(V[..., 2] > 0):
             raise ConvergenceError(f"energy method: the meridional stretch is not positive at "
-                                   f"{self.scene.parameter} = {p:g} (a step too long)")
+                                   f"{sc.parameter} = {p:g} (a step too long)")
+        n = E * nq
+        Lq = np.repeat(self.L, nq)
+        gE, HE, gpE = _padded(self._phi, n, (V.reshape(n, 4), self.sq.ravel(), Lq,
+                                             F.reshape(n, 4), dF.reshape(n, 4)),
+                              (P, dP, sc.material_parameter, sc.h))
+        we = (2 * math.pi * self.L[:, None] * wq[None, :]).reshape(n)
+        gC, HC = _constraint_terms(Uc, self.L, sc.h)
+        wk = 2 * math.pi * self.L[:, None] * wc[None, :]
+        BEf, BCf = BE.reshape(nq * 4, -1), BC.reshape(q * 4, -1)
+        g = ((gE * we[:, None]).reshape(E, nq * 4) @ BEf
+             + (gC * wk[..., None]).reshape(E, q * 4) @ BCf)
+        gp = (gpE * we[:, None]).reshape(E, nq * 4) @ BEf
+        HEw = (HE * we[:, None, None]).reshape(E, nq, 4, 4)
+        HCw = HC * wk[..., None, None]
+        # B^T blockdiag(H) B per element: the blocks applied to B, then B^T
+        H = (BEf.T @ np.matmul(HEw, BE).reshape(E, nq * 4, -1)
+             + BCf.T @ np.matmul(HCw, BC).reshape(E, q * 4, -1))
         c = self.scale
-        R = np.bincount(self.idx.ravel(), np.asarray(g).ravel(), self.n_full)[self.free] / c
-        Rp = np.bincount(self.idx.ravel(), np.asarray(gp).ravel(), self.n_full)[self.free] / c
-        vals = np.asarray(H).ravel()[self._keep] / (c[self._rows] * c[self._cols])
+        R = np.bincount(self.idx.ravel(), g.ravel(), self.n_full)[self.free] / c
+        Rp = np.bincount(self.idx.ravel(), gp.ravel(), self.n_full)[self.free] / c
+        vals = H.ravel()[self._keep] / (c[self._rows] * c[self._cols])
         J = sps.csc_matrix((vals, (self._rows, self._cols)), shape=(self.size, self.size))
-        H0 = self.bvp.rise
-        dm = np.bincount(self.idx.ravel(), np.asarray(dI).ravel(), self.n_full)[self.free] / c
-        self._monitor = (np.array(U, dtype=float),
-                         (self._sign() * (float(I) - H0) / H0, self._sign() * dm / H0))
+        self._monitor = (np.array(U, dtype=float), self._observable(V, c))
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(vals))):
-            from ..errors import ConvergenceError
-
             raise ConvergenceError(f"energy method: non-finite energy gradient at "
-                                   f"{self.scene.parameter} = {p:g}")
+                                   f"{sc.parameter} = {p:g}")
         return R, J, Rp
 
-    def monitor(self, U):
-        """(m, dm/dU): w / H, from I = int Lambda sin(theta) ds by the energy quadrature
-        (the last evaluation's when it was at U)."""
-        if self._monitor is not None and np.array_equal(self._monitor[0], U):
-            return self._monitor[1]
+    def _observable(self, V, c):
+        """(m, dm/dU) from the state V at the energy points: m = +-(I - H) / H with
+        I = int Lambda sin(theta) ds by the energy quadrature."""
         _, _, wq, _, _, BE, _ = _element(self.q, self.nq)
-        V = np.einsum("gkn,en->egk", BE, self.local(U))
         w = self.L[:, None] * wq[None, :]
         I = float(np.sum(V[..., 2] * np.sin(V[..., 0]) * w))
         dV = np.zeros_like(V)
@@ -469,8 +483,15 @@ class RitzSystem:
         dV[..., 2] = np.sin(V[..., 0]) * w
         dI = np.einsum("gkn,egk->en", BE, dV)
         H0 = self.bvp.rise
-        dm = np.bincount(self.idx.ravel(), dI.ravel(), self.n_full)[self.free] / self.scale
+        dm = np.bincount(self.idx.ravel(), dI.ravel(), self.n_full)[self.free] / c
         return self._sign() * (I - H0) / H0, self._sign() * dm / H0
+
+    def monitor(self, U):
+        """(m, dm/dU): w / H (the last evaluation's when it was at U)."""
+        if self._monitor is not None and np.array_equal(self._monitor[0], U):
+            return self._monitor[1]
+        _, _, _, _, _, BE, _ = _element(self.q, self.nq)
+        return self._observable(np.einsum("gkn,en->egk", BE, self.local(U)), self.scale)
 
     # --- profiles -------------------------------------------------------------------------
     def from_profile(self, profile) -> np.ndarray:
@@ -601,9 +622,8 @@ class RitzSystem:
         sn = np.sin(s)
         with np.errstate(divide="ignore", invalid="ignore"):
             X = np.stack([Lv / g1, rv / (g2 * sn), -dth / Lv, -np.sin(thv) / rv])
-        gw, Hw = _w_derivatives(sc.model, sc.material, float(sc.rhob1))(
-            X.T, kb1, kb2, sc.material_parameter, sc.h)
-        gw, Hw = np.asarray(gw), np.asarray(Hw)
+        gw, Hw = _padded(self._w, s.size, (np.ascontiguousarray(X.T), kb1, kb2),
+                         (sc.material_parameter, sc.h))
         M = -gw[:, 2] * g2 * sn / X[0]
         return dict(s=s, r=rv, z=self._z(th, Lam, s), theta=thv, X=X, F=F, M=M, gw=gw,
                     Hw=Hw)
@@ -668,7 +688,11 @@ class RitzSystem:
         from ..energy import energy_terms
 
         sc = self.scene
-        X, F, pot = (np.asarray(a) for a in self._energy(self.local(U), *self._args(p)))
+        V, _, F, _, P, _ = self._points(U, p)
+        th, Lam, r = V[..., 0], V[..., 2], V[..., 3]
+        X = np.stack([Lam / F[..., 0], r / (F[..., 1] * np.sin(self.sq)),
+                      -(V[..., 1] / self.L[:, None]) / Lam, -np.sin(th) / r], axis=-1)
+        pot = 0.5 * P * r * r * Lam * np.sin(th)
         ws, wb, _, _ = energy_terms(X[..., 0], X[..., 1], X[..., 2], X[..., 3], F[..., 2],
                                     F[..., 3], lam=sc.lam, nu=sc.nu, model=sc.model,
                                     material=sc.material, rhob1=sc.rhob1)
