@@ -33,7 +33,8 @@ def main(argv=None):
     t0 = time.perf_counter()
     rows, data = [], {}
     for ea, eb in cases:
-        b = bd.branch(ea, eb, PAPER_KBAR[(ea, eb)])
+        # the first-order system's branches (the energy method's carry their own Hessian)
+        b = bd.branch(ea, eb, PAPER_KBAR[(ea, eb)], nodes=bd.NODES)
         # every point, and the last eight (where the branch ends) all of them
         idx = sorted(set(range(0, len(b.p), 3)) | set(range(max(0, len(b.p) - 8), len(b.p))))
         pts = []
