@@ -75,6 +75,7 @@ def test_snap_curvature_agrees_with_the_first_order_system(cap):
     assert abs(sv.eigenvalues[0]) < 1e-6 * sv.eigenvalues[1]
 
 
+@pytest.mark.slow      # the default suite compares w and the energy below, on cached branches
 def test_budding_at_kbar_20_agrees_with_the_spectral_method():
     """w_apex and the energy at kbar = 20 (eta_a = 0, eta_b = 1): the energy method's own
     quadrature against the spectral equilibrium's (another discretisation and quadrature)."""
@@ -125,19 +126,23 @@ def test_stability_check_needs_a_mid_surface_method(cap):
 
 
 def test_energy_method_equilibrium_is_stationary_by_an_independent_quadrature():
-    """eta = (0, 1), kbar = 20: the first variation of the reduced energy,
+    """eta = (0, 1), kbar = 20: w and the energy agree with the spectral solution, and the
+    first variation of the reduced energy,
     by Simpson's rule on 3000 panels with complex steps through the first-order system's own
     state (tests/test_budding.py), vanishes at the energy method's equilibrium relative to
     its value at a state that is not an equilibrium."""
     from dataclasses import replace
 
-    from test_budding import _first_variation
+    from test_budding import _first_variation, at as spectral_at
 
     T = budding.THETA
     w = 2 * math.pi / T
     directions = [(lambda s: np.sin(w * s) ** 2, lambda s: w * np.sin(2 * w * s), lambda s: 0 * s),
                   (lambda s: 0 * s, lambda s: 0 * s, lambda s: 1 + s)]
     eq = budding.equilibrium(0.0, 1.0, 20.0, method=Ritz(degree=DEG))
+    ref = spectral_at(0.0, 1.0, 20.0)     # the spectral branch test_budding follows (cached)
+    assert eq.w == pytest.approx(ref.w, abs=1e-10)
+    assert eq.energy == pytest.approx(ref.energy, rel=1e-9)
     off = replace(budding.equilibrium(0.0, 1.0, 10.0, method=Ritz(degree=DEG)), p=20.0)
     for a, b in zip(_first_variation(eq, directions), _first_variation(off, directions)):
         assert abs(b) > 1e-6 and abs(a) <= 1e-6 * abs(b)
