@@ -387,8 +387,7 @@ class RitzSystem:
         l0 = (self.piece_ends[1] - self.piece_ends[0]) / method.elements
         scale = np.ones(self.n_full)
         lam_cols = self.idx[:, n1:2 * n1]
-        np.maximum.at(scale, lam_cols, 0.0)            # reset Lambda's, then the largest
-        scale[off_lam:off_r] = 0.0
+        scale[off_lam:off_r] = 0.0               # Lambda's: the largest of its elements'
         np.maximum.at(scale, lam_cols, np.repeat(np.minimum(1.0, self.L / l0)[:, None], n1, 1))
         self.scale = scale[self.free]
         where = np.full(self.n_full, -1)
