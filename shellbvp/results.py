@@ -184,19 +184,16 @@ def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
     st = system.state_at(U, p, system.output_points())
     X, F = st["X"], st["F"]
     legendre, block, full = ellipticity(X.T, st["gw"], st["Hw"], sc.h)
-    profile = system.profile(U, p)
     Es, Eb, Ep = system.energies(U, p)
     m, _ = system.monitor(U)
-    y = profile(st["s"])
-    scale = sc.h**2 / 12
     return Equilibrium(
         scene=sc, p=float(p), s=st["s"], r=st["r"], z=st["z"], theta=st["theta"],
         lam1=X[0], lam2=X[1], k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2,
-        eps22=(X[1] ** 2 - 1) / 2, M=st["M"], F_r=scale * y[4], F_z=scale * y[5],
+        eps22=(X[1] ** 2 - 1) / 2, M=st["M"], F_r=st["F_r"], F_z=0.0 * st["s"],
         energy=Es + Eb + Ep, stretching_energy=Es, bending_energy=Eb,
         w=float(m * system.bvp.rise), error_estimate=float(error_estimate),
         stats=dict(stats or {}), success=True, message="converged", z_apex=0.0,
-        profile=profile, legendre=legendre, hessian_block=block,
+        profile=system.profile(U, p), legendre=legendre, hessian_block=block,
         pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
         load_potential=float(Ep))

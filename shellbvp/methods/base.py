@@ -115,7 +115,8 @@ class MidSurface(Protocol):
 
     def state_at(self, U, p, s) -> dict:
         """The state at points s > 0: ``s, r, z, theta, X`` (lam1, lam2, k1, k2), ``F``
-        (g1, g2, kb1, kb2), ``M`` (per mu* h0 R0 per radian), ``gw`` (n, 4) and ``Hw``
+        (g1, g2, kb1, kb2), ``M`` and ``F_r`` (per mu* h0 R0 per radian; F_z = 0),
+        ``gw`` (n, 4) and ``Hw``
         (n, 4, 4) (gradient and Hessian of W in X)."""
 
     def output_points(self):

@@ -535,48 +535,39 @@ class RitzSystem:
         e = np.clip(np.searchsorted(self.ea, s, side="right") - 1, 0, self.E - 1)
         return e, (s - self.ea[e]) / self.L[e]
 
+    def _at_nodes(self, x):
+        """The Lagrange matrix from an element's nodes to local coordinates x."""
+        return _barycentric(self.t_nodes, _lobatto_weights(self.q), x)
+
     def interpolate(self, values, s, *, at="nodes"):
         """Element-wise interpolation of ``values`` (E, k) (at the nodes, or at the
         collocation points with ``at="collocation"``) to the points s."""
         e, x = self._locate(s)
-        if at == "nodes":
-            C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x)
-        else:
-            C = _barycentric(self.tc, _general_weights(self.tc), x)
+        C = self._at_nodes(x) if at == "nodes" else \
+            _barycentric(self.tc, _general_weights(self.tc), x)
         return np.einsum("nk,nk->n", C, values[e])
 
     def _z(self, th, Lam, s):
         """z(s) - z(0) = -int_0^s Lambda sin(theta) ds, by Gauss quadrature per element."""
-        tq, wq = _gauss(self.nq)
-        f = np.sin(self.interpolate_all(th, self.sq)) * self.interpolate_all(Lam, self.sq)
+        _, _, wq, _, _, BE, _ = _element(self.q, self.nq)
+        Iq = BE[:, 0, :self.q + 1]                       # nodes -> the energy points
+        f = np.sin(th @ Iq.T) * (Lam @ Iq.T)
         whole = np.concatenate([[0.0], np.cumsum(np.sum(f * wq * self.L[:, None], axis=1))])
         e, x = self._locate(s)
-        pts = self.ea[e][:, None] + (x * self.L[e])[:, None] * tq[None, :]
-        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), ((pts - self.ea[e][:, None])
-                                                                  / self.L[e][:, None]).ravel())
-        C = C.reshape(pts.shape + (self.q + 1,))
+        tq, _ = _gauss(self.nq)
+        C = self._at_nodes((x[:, None] * tq[None, :]).ravel()).reshape(x.size, self.nq, -1)
         part = np.sin(np.einsum("ngk,nk->ng", C, th[e])) * np.einsum("ngk,nk->ng", C, Lam[e])
         return -(whole[e] + np.sum(part * wq, axis=1) * x * self.L[e])
-
-    def interpolate_all(self, values, pts):
-        """Interpolation within each element of ``values`` (E, q + 1) to that element's own
-        points ``pts`` (E, k)."""
-        x = (pts - self.ea[:, None]) / self.L[:, None]
-        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x.ravel())
-        return np.einsum("ekj,ej->ek", C.reshape(x.shape + (self.q + 1,)), values)
 
     def profile(self, U, p):
         """A callable s -> (6, n): the BVP's unknowns (r, z, theta, m, f_r, f_z) of this
         solution (z from the apex, m and f scaled by 12/h^2), a guess for any method."""
-        th, Lam, r, f = self._values(U)
-        sc = self.scene
+        scale = 12.0 / self.scene.h ** 2
 
         def ev(s):
-            s = np.atleast_1d(np.asarray(s, dtype=float))
-            st = self.state_at(U, p, s)
-            m = 12.0 / sc.h ** 2 * st["M"]
-            return np.stack([st["r"], st["z"], st["theta"], m,
-                             self.interpolate(f, s, at="collocation"), 0.0 * s])
+            st = self.state_at(U, p, np.atleast_1d(np.asarray(s, dtype=float)))
+            return np.stack([st["r"], st["z"], st["theta"], scale * st["M"],
+                             scale * st["F_r"], 0.0 * st["s"]])
 
         return ev
 
@@ -598,13 +589,13 @@ class RitzSystem:
 
     def state_at(self, U, p, s) -> dict:
         """The state at the points s (> 0): r, z, theta, stretches, curvatures, fields, the
-        moment M = -W_k1 g2 sin s / lam1 (per mu* h0 R0 per radian) and the W gradient and
-        Hessian in (lam1, lam2, k1, k2)."""
-        th, Lam, r, _ = self._values(U)
+        moment M = -W_k1 g2 sin s / lam1 and the force F_r (the multipliers, h^2/12 f), per
+        mu* h0 R0 per radian, and the W gradient and Hessian in (lam1, lam2, k1, k2)."""
+        th, Lam, r, f = self._values(U)
         sc = self.scene
         s = np.atleast_1d(np.asarray(s, dtype=float))
         e, x = self._locate(s)
-        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), x)
+        C = self._at_nodes(x)
         Dm = differentiation_matrix(self.q)
         thv = np.einsum("nk,nk->n", C, th[e])
         dth = np.einsum("nk,nk->n", C, (th @ Dm.T)[e]) / self.L[e]
@@ -624,8 +615,9 @@ class RitzSystem:
         gw, Hw = _padded(self._w, s.size, (np.ascontiguousarray(X.T), kb1, kb2),
                          (sc.material_parameter, sc.h))
         M = -gw[:, 2] * g2 * sn / X[0]
-        return dict(s=s, r=rv, z=self._z(th, Lam, s), theta=thv, X=X, F=F, M=M, gw=gw,
-                    Hw=Hw)
+        F_r = sc.h ** 2 / 12 * self.interpolate(f, s, at="collocation")
+        return dict(s=s, r=rv, z=self._z(th, Lam, s), theta=thv, X=X, F=F, M=M, F_r=F_r,
+                    gw=gw, Hw=Hw)
 
     def output_points(self) -> np.ndarray:
         """The element nodes, each once, without the apex (s = 0, where lam2 and k2 are
@@ -653,7 +645,7 @@ class RitzSystem:
         hi = other.piece_ends[other.element_piece + 1][:, None]
         inside = np.clip(other.sn, lo, np.nextafter(hi, lo))
         e, xx = self._locate(inside.ravel())
-        C = _barycentric(self.t_nodes, _lobatto_weights(self.q), xx)
+        C = self._at_nodes(xx)
         lam_vals = np.einsum("nk,nk->n", C, Lam[e]).reshape(other.sn.shape)
         x[other.idx[:, other.q + 1:2 * other.q + 2]] = lam_vals
         sc_ = other.ea[:, None] + other.L[:, None] * other.tc[None, :]
