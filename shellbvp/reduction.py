@@ -47,7 +47,8 @@ import sympy as sp
 
 from . import cache
 
-__all__ = ["Reduction", "derive", "symbols", "full_energy"]
+__all__ = ["Reduction", "derive", "symbols", "full_energy", "invariant_rhos", "INVARIANTS",
+           "general_energy", "GENERAL"]
 
 # --- symbols -------------------------------------------------------------------------------
 lam1, lam2 = sp.symbols("lam1 lam2", positive=True)
@@ -116,11 +117,13 @@ def _through_thickness(expr: sp.Expr, phi_z: sp.Expr) -> tuple[sp.Expr, sp.Expr]
     return f0, f2
 
 
-def _nh_rhos() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """rho1..rho3 from J = 1 integrated through the thickness, solved order by order in Z."""
-    H, K = (k1 + k2) / 2, k1 * k2
-    Hb, Kb = (kb1 + kb2) / 2, kb1 * kb2
-    Js = lam1 * lam2
+def _nh_rhos(H=(k1 + k2) / 2, K=k1 * k2, Hb=(kb1 + kb2) / 2, Kb=kb1 * kb2,
+             Js=lam1 * lam2) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """rho1..rho3 from J = 1 integrated through the thickness, solved order by order in Z.
+
+    The constraint involves the forms only through their invariants: the areal stretch
+    Js = sqrt(det a / det abar) and the mean and Gaussian curvatures (H, K) and (Hb, Kb) of
+    the current and target surfaces, principal ones by default."""
     phi_z = rho1 * Z + rho2 * Z**2 + rho3 * Z**3
     phib_z = rhob1 * Z + rhob2 * Z**2 + rhob3 * Z**3
     constraint = sp.expand(
@@ -216,6 +219,94 @@ def derive(model: str = "relaxed", material: str = "cg") -> Reduction:
 def _derive_cached(model: str, material: str) -> Reduction:
     key = cache.key("reduction", model, material, inspect.getsource(inspect.getmodule(_derive)))
     return cache.memo(key, lambda: _derive(model, material))
+
+
+# --- invariants (the general, non-diagonal forms of :mod:`shellbvp.forms`) ------------------
+J_s = sp.Symbol("Js", positive=True)
+H_s, K_s, Hb_s, Kb_s = sp.symbols("H K Hb Kb", real=True)
+#: Arguments of the thickness-map coefficients as functions of invariants, in this order.
+INVARIANTS = (J_s, H_s, K_s, Hb_s, Kb_s, lam) + STIMULUS
+
+
+def invariant_rhos(model: str, material: str) -> tuple:
+    """The thickness-map coefficients that do not depend on the frame, as functions of the
+    invariants ``INVARIANTS`` (areal stretch, mean and Gaussian curvatures, lam, stimulus):
+    for ``nh`` rho1..rho3 from J = 1; for relaxed ``cg`` rho1, which depends on the areal
+    stretch only (checked here: its principal form is a function of lam1 lam2); for plane
+    strain (1, 0, 0). None where a coefficient is left to a minimisation (relaxed rho2)."""
+    red = derive(model, material)
+    if material == "nh":
+        return _nh_rhos(H_s, K_s, Hb_s, Kb_s, J_s)
+    if model == "plane_strain" or material == "koiter":
+        return sp.Integer(1), sp.Integer(0), sp.Integer(0)
+    r1 = sp.simplify(red.rho1.subs(lam1, J_s / lam2))
+    if lam2 in r1.free_symbols or r1.free_symbols & {k1, k2, kb1, kb2}:
+        raise RuntimeError(f"relaxed rho1 is not a function of the areal stretch: {r1}")
+    return r1, None, sp.Integer(0)
+
+
+#: the joint invariants of general (non-diagonal) forms the reduced energy depends on, with
+#: C = abar^-1 a, S = a^-1 b, Sb = abar^-1 bbar (mixed tensors): tr C, the areal stretch Js,
+#: the curvatures H, K, Hb, Kb, and tr(C S), tr(C S S), tr(Sb C), tr(Sb Sb C), tr(Sb C S)
+trC = sp.Symbol("trC", positive=True)
+t_CS, t_CSS, t_SbC, t_SbSbC, t_SbCS = sp.symbols("tCS tCSS tSbC tSbSbC tSbCS", real=True)
+GENERAL = (trC, J_s, H_s, K_s, Hb_s, Kb_s, t_CS, t_CSS, t_SbC, t_SbSbC, t_SbCS, lam, h) \
+    + STIMULUS
+
+
+def _general(model: str, material: str) -> sp.Expr:
+    """W = w_s + h^2/12 w_b of general forms in the invariants ``GENERAL``.
+
+    Through the thickness G = a (I - phi S)^2 and Gbar = abar (I - phib Sb)^2, so that
+    tr(Gbar^-1 G) = tr[(I - phib Sb)^-2 C (I - phi S)^2], whose Z^0..Z^2 coefficients are
+    trC, -2 rho1 tr(CS) + 2 rhob1 tr(SbC) and -2 rho2 tr(CS) + rho1^2 tr(CSS)
+    + 2 rhob2 tr(SbC) + 3 rhob1^2 tr(SbSbC) - 4 rho1 rhob1 tr(SbCS) ((I - x)^-2 = I + 2x
+    + 3x^2 + ...); det(Gbar^-1 G) = Js^2 det(I - phi S)^2 / det(I - phib Sb)^2 with
+    det(I - phi S) = 1 - 2 H phi + K phi^2, and the volume element is
+    phib' (1 - 2 Hb phib + Kb phib^2). The rest is the principal derivation's: the same
+    density, the same Taylor coefficients, the same thickness-map coefficients."""
+    phi_z = rho1 * Z + rho2 * Z**2 + rho3 * Z**3
+    phib_z = rhob1 * Z + rhob2 * Z**2 + rhob3 * Z**3
+    dphi_z, dphib_z = sp.diff(phi_z, Z), sp.diff(phib_z, Z)
+    trM = (trC + Z * (-2 * rho1 * t_CS + 2 * rhob1 * t_SbC)
+           + Z**2 * (-2 * rho2 * t_CS + rho1**2 * t_CSS + 2 * rhob2 * t_SbC
+                     + 3 * rhob1**2 * t_SbSbC - 4 * rho1 * rhob1 * t_SbCS))
+    det_c = 1 - 2 * H_s * phi_z + K_s * phi_z**2
+    det_b = 1 - 2 * Hb_s * phib_z + Kb_s * phib_z**2
+    T = (dphi_z / dphib_z) ** 2
+    I1 = trM + T
+    vol = dphib_z * det_b
+    if material == "nh":
+        Phi = (I1 - 3) / 2
+    else:
+        logI3 = (2 * sp.log(J_s) + 2 * sp.log(det_c) - 2 * sp.log(det_b)
+                 + 2 * sp.log(dphi_z) - 2 * sp.log(dphib_z))
+        I3 = J_s**2 * det_c**2 / det_b**2 * T
+        Phi = (I1 - 3 - logI3) / 2 + lam / 4 * (I3 - 1 - logI3)
+    F = Phi * vol
+    f0 = F.subs(Z, 0)
+    f2 = sp.diff(F, Z, 2).subs(Z, 0) / 2
+    r1, r2, r3 = invariant_rhos(model, material)
+    if r2 is None:
+        f2_0 = f2.subs({rho3: 0, rho1: r1})
+        qa = sp.diff(f2_0, rho2, 2).subs(rho2, 0) / 2
+        qb = sp.diff(f2_0, rho2).subs(rho2, 0)
+        r2 = -qb / (2 * qa)
+    sub = {rho1: r1, rho2: r2, rho3: r3}
+    return f0.subs(sub) + h**2 / 12 * f2.subs({rho3: r3}).subs({rho2: r2}).subs({rho1: r1})
+
+
+def general_energy(model: str = "relaxed", material: str = "cg") -> sp.Expr:
+    """W of general forms as one expression in ``GENERAL`` (derived once, cached on disk);
+    ``material`` cg or nh (Koiter's general form is written directly in
+    :mod:`shellbvp.forms`)."""
+    if material not in ("cg", "nh"):
+        raise ValueError(f"material must be 'cg' or 'nh', got {material!r}")
+    if material == "nh":
+        model = "relaxed"
+    key = cache.key("reduction-general", model, material,
+                    inspect.getsource(inspect.getmodule(_derive)))
+    return cache.memo(key, lambda: _general(model, material))
 
 
 def full_energy(model: str = "relaxed", material: str = "cg", *, stimulus: dict | None = None):

@@ -1,0 +1,536 @@
+"""Stability beyond axisymmetry: the second variation of the full 2D energy, one circumferential
+harmonic at a time.
+
+About an axisymmetric equilibrium x0(s, omega) = (r cos omega, r sin omega, z) (s the
+meridional angle of the reference sphere, R0 = 1) perturb the mid-surface by
+
+    dx = U_r(s) cos(n omega) e_r + U_w(s) sin(n omega) e_omega + U_z(s) cos(n omega) e_z
+
+(cylindrical components; the meridional, azimuthal and normal components of the issue's
+u cos, v sin, w cos are u = U_r cos(theta) - U_z sin(theta), v = U_w,
+w = U_r sin(theta) + U_z cos(theta), a pointwise rotation in the meridional plane). The energy
+is E = int int W(a, b; abar, bbar) dA_target + P V, W the reduced energy of general forms
+(:mod:`shellbvp.forms`), a_ij = x_i . x_j, b_ij = x_ij . N, and for a pressure P
+(follower load) V = (1/3) int int x . (x_s x x_omega) ds domega, which differs from the
+axisymmetric solve's volume by a constant where the edge is fixed.
+
+Decoupling. The density depends on (x, x_s, x_omega, x_ss, x_somega, x_omegaomega) at a point,
+and is invariant under rotations about the axis, so its Hessian H in these 18 numbers, written
+in the local frame (e_r, e_omega, e_z), is the same at every omega. In that frame every
+component of dx and of its derivatives is either (coefficient)(s) cos(n omega) (the r and z
+components of dx, dx_s, dx_ss, dx_oo and the omega components of dx_o, dx_so) or
+(coefficient)(s) sin(n omega) (the others), with the coefficients (L_n below)
+
+    dx_o  = (-n U_r - U_w, n U_w + U_r, -n U_z),
+    dx_oo = (-(n^2 + 1) U_r - 2 n U_w, -2 n U_r - (n^2 + 1) U_w, -n^2 U_z),
+
+and the base state's reflection symmetry omega -> -omega makes H couple cos-components with
+cos-components only. The integral over omega is then exact: pi int (L_n d)^T H (L_n d) ds for
+n >= 1. For n = 0 the cos family is the axisymmetric (U_r, U_z) and the sin family vanishes;
+its partner (U_w e_omega: twist) is taken together with it, with weight 2 pi: the n = 0
+matrix holds the axisymmetric second variation and the torsional one.
+
+Pole regularity (a smooth vector field near the axis: a scalar ~ r^n, u_r +- i u_omega ~
+r^(n -+ 1)), imposed at s = 0:
+
+* n = 0: U_r = U_w = 0 and U_z' = 0 (no cone at the apex);
+* n = 1: U_z = 0 and U_r + U_w = 0 (a lateral translation is U_r = 1, U_w = -1; a tilt
+  has U_z ~ r, so U_z' is free);
+* n >= 2: U_r = U_w = U_z = 0 and U_z' = 0 (curvature changes ~ n^2 U_z / r^2 must be
+  square-integrable).
+
+A clamped edge has U = 0 and no rotation of the tangent out of the surface,
+U_r' sin(theta) + U_z' cos(theta) = 0. Across an interface of a piecewise stimulus U and the
+rotation (dx_s . N) / |x_s| are continuous. A free edge has no conditions: the cap's rigid
+motions are then zero-energy modes (n = 0: axial translation U_z = 1, rotation about the
+axis U_w = r; n = 1: lateral translation (1, -1, 0), tilt (z, -z, -r)); they are identified
+(their Rayleigh quotients reported) and the spectrum is computed on their complement in the
+mass norm, never suppressed by supports the real cap does not have.
+
+Discretisation: per piece, each U a Chebyshev series of degree ``degree``; the quadratic
+form and the mass int int |dx|^2 dA_target by Gauss-Legendre quadrature; the base state from
+the equilibrium's own interpolant and inner roots at Chebyshev points (its stretch
+derivative by Chebyshev differentiation). The eigenvalues, in energy per mu* h0 R0^2 per unit
+squared amplitude in that mass norm, converge spectrally with the degree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from .errors import ConvergenceError
+from .results import Equilibrium
+
+__all__ = ["HarmonicSpectrum", "Modes", "modes", "DEGREE", "N_MAX"]
+
+#: default Chebyshev degree of each perturbation component per piece
+DEGREE = 40
+#: Chebyshev degree of the base state's interpolants per piece
+BASE_DEGREE = 64
+#: the largest harmonic accepted
+N_MAX = 200
+
+
+@dataclass(frozen=True)
+class HarmonicSpectrum:
+    """The smallest eigenvalues of the second variation in harmonic n.
+
+    Attributes:
+        n: the harmonic (number of circumferential waves).
+        eigenvalues: increasing, rigid-body modes excluded (energy per mu* h0 R0^2 per unit
+            squared amplitude in the mass norm int int |dx|^2 dA_target).
+        s: points (meridional angle) at which the modes are given.
+        u, v, w: the modes' meridional, azimuthal and normal displacement components at
+            ``s`` (one row per eigenvalue, unit mass norm, sign fixed by max |w| > 0).
+        rigid: the free cap's rigid-body modes of this n, as (name, Rayleigh quotient): the
+            quotient is zero in the continuum, and its size is the discretisation's
+            (compare with ``eigenvalues``).
+    """
+
+    n: int
+    eigenvalues: np.ndarray
+    s: np.ndarray = field(repr=False)
+    u: np.ndarray = field(repr=False)
+    v: np.ndarray = field(repr=False)
+    w: np.ndarray = field(repr=False)
+    rigid: tuple = ()
+
+    @property
+    def lowest(self) -> float:
+        return float(self.eigenvalues[0])
+
+
+@dataclass(frozen=True)
+class Modes:
+    """The second variation of an equilibrium, per harmonic (:func:`modes`).
+
+    Attributes:
+        p: the equilibrium's parameter value; parameter: its name.
+        spectra: one :class:`HarmonicSpectrum` per harmonic scanned, in the order given.
+        degree: Chebyshev degree per piece and component.
+    """
+
+    p: float
+    parameter: str
+    spectra: tuple
+    degree: int
+
+    @property
+    def harmonics(self) -> tuple:
+        return tuple(sp.n for sp in self.spectra)
+
+    def __getitem__(self, n: int) -> HarmonicSpectrum:
+        for sp in self.spectra:
+            if sp.n == n:
+                return sp
+        raise KeyError(f"harmonic n = {n} was not scanned (scanned: {self.harmonics})")
+
+    @property
+    def lowest(self) -> tuple:
+        """(n, eigenvalue) of the smallest eigenvalue over the harmonics scanned."""
+        sp = min(self.spectra, key=lambda sp: sp.lowest)
+        return sp.n, sp.lowest
+
+    def __repr__(self) -> str:
+        n, mu = self.lowest
+        return (f"Modes({self.parameter}={self.p:.6g}, n = {min(self.harmonics)}.."
+                f"{max(self.harmonics)}, lowest {mu:.4g} at n = {n}, degree {self.degree})")
+
+
+# --- the local density and its Hessian ------------------------------------------------------
+def _triple(u, v, w):
+    return jnp_dot(u, jnp_cross(v, w))
+
+
+def jnp_dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def jnp_cross(a, b):
+    import jax.numpy as jnp
+
+    return jnp.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                      a[0] * b[1] - a[1] * b[0]])
+
+
+@lru_cache(maxsize=None)
+def _hessian_kernel(model: str, material: str, rhob1: float):
+    """jit(vmap) of the Hessian of the density per ds domega in the 18 local numbers q =
+    (x, x_s, x_o, x_ss, x_so, x_oo), with per-point data (g1, g2, kb1, kb2, sin s) and the
+    scalars (material parameter, h, pressure). The reduced energy enters through the six
+    entries of (a, b), so its Hessian is taken in those six (36 second-order directions,
+    not 324) and chained through the geometry: H_q = J^T H_ab J + sum_k dW/d(ab)_k
+    Hess_q (ab)_k, the last a Hessian of the cheap geometric map only."""
+    from .jaxsetup import jax
+    import jax.numpy as jnp
+
+    from .forms import reduced_energy
+
+    def forms(q):
+        xs, xo, xss, xso, xoo = (q[3 * i:3 * i + 3] for i in range(1, 6))
+        nrm = jnp_cross(xs, xo)
+        N = nrm / jnp.sqrt(jnp_dot(nrm, nrm))
+        return jnp.stack([jnp_dot(xs, xs), jnp_dot(xs, xo), jnp_dot(xo, xo),
+                          jnp_dot(xss, N), jnp_dot(xso, N), jnp_dot(xoo, N)])
+
+    def energy(ab, d, mat, h):
+        g1, g2, kb1, kb2, sn = d[0], d[1], d[2], d[3], d[4]
+        a = jnp.array([[ab[0], ab[1]], [ab[1], ab[2]]])
+        b = jnp.array([[ab[3], ab[4]], [ab[4], ab[5]]])
+        abar = jnp.array([[g1**2, 0.0], [0.0, (g2 * sn) ** 2]])
+        bbar = jnp.array([[kb1 * g1**2, 0.0], [0.0, kb2 * (g2 * sn) ** 2]])
+        kw = dict(nu=mat) if material == "koiter" else dict(lam=mat)
+        return reduced_energy(a, b, abar, bbar, h=h, model=model, material=material,
+                              rhob=(rhob1, 0.0, 0.0), **kw) * g1 * g2 * sn
+
+    def load(q):
+        return _triple(q[0:3], q[3:6], q[6:9]) / 3.0
+
+    def hessian(q, d, mat, h, P):
+        ab = forms(q)
+        gW = jax.grad(energy)(ab, d, mat, h)
+        HW = jax.jacfwd(jax.grad(energy))(ab, d, mat, h)
+        J = jax.jacfwd(forms)(q)
+        Hg = jax.hessian(lambda x: jnp.dot(gW, forms(x)))(q)
+        return J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
+
+    return jax.jit(jax.vmap(hessian, in_axes=(0, 0, None, None, None)))
+
+
+def _local_map(n: int) -> np.ndarray:
+    """L_n (18, 9): the local components of (dx, dx_s, dx_o, dx_ss, dx_so, dx_oo) from
+    d = (U, U', U'') (each (U_r, U_w, U_z)), the cos/sin factors dropped (module docstring)."""
+    L = np.zeros((18, 9))
+    for k, off in ((0, 0), (3, 3), (9, 6)):          # dx, dx_s, dx_ss: U, U', U''
+        L[k:k + 3, off:off + 3] = np.eye(3)
+    for k, off in ((6, 0), (12, 3)):                 # dx_o (from U), dx_so (from U')
+        L[k, off], L[k, off + 1] = -n, -1.0
+        L[k + 1, off], L[k + 1, off + 1] = 1.0, n
+        L[k + 2, off + 2] = -n
+    L[15, 0], L[15, 1] = -(n * n + 1.0), -2.0 * n
+    L[16, 0], L[16, 1] = -2.0 * n, -(n * n + 1.0)
+    L[17, 2] = -float(n * n)
+    return L
+
+
+# --- the base state -------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Base:
+    """The equilibrium and its discretisation: quadrature points, basis values, Hessians."""
+
+    pieces: tuple                 # (a, b) per piece, a = 0 for the first
+    s: np.ndarray                 # (P, m) Gauss points
+    wq: np.ndarray                # (P, m) weights (ds)
+    area: np.ndarray              # (P, m) g1 g2 sin s
+    theta: np.ndarray             # (P, m)
+    r: np.ndarray
+    z: np.ndarray
+    stretch: np.ndarray           # (P, m) |x_s| = g1 lam1
+    H: np.ndarray                 # (P, m, 18, 18)
+    ends: dict                    # theta, |x_s|, r, z at piece ends: {(i, side): tuple}
+    degree: int
+    E: tuple                      # (E0, E1, E2) per piece: (m, degree + 1) basis derivatives
+    clamped: bool
+
+
+def _cheb_basis(x, N, scale):
+    """Values of T_0..T_N and of their first two derivatives in s at x in [-1, 1]."""
+    C = np.polynomial.chebyshev
+    I = np.eye(N + 1)
+    E0 = C.chebvander(x, N)
+    E1 = np.stack([C.chebval(x, C.chebder(I[k])) for k in range(N + 1)], axis=-1) * scale
+    E2 = np.stack([C.chebval(x, C.chebder(I[k], 2)) for k in range(N + 1)], axis=-1) * scale**2
+    return E0, E1, E2
+
+
+def _base(eq: Equilibrium, degree: int) -> _Base:
+    from .bvp import ShellBVP
+    from .methods.chebyshev import chebyshev_points
+
+    sc = eq.scene
+    bvp = ShellBVP(sc)
+    P = bvp.P
+    bounds = [(0.0 if i == 0 else float(bvp.a[i]), float(bvp.b[i])) for i in range(P)]
+    Nb = BASE_DEGREE
+    tb = chebyshev_points(Nb)
+    sb = np.stack([bvp.s_of(i, tb) for i in range(P)])          # from eps on the first piece
+    Y = np.stack([eq.unknowns(sb[i]) for i in range(P)])         # (P, 6, Nb + 1)
+    hint = np.stack([np.stack([np.interp(sb[i], eq.s, eq.lam1), np.interp(sb[i], eq.s, eq.k1)],
+                              axis=-1) for i in range(P)])
+    X, F = bvp.state(sb, Y, eq.p, hint)                         # (P, 4, Nb + 1)
+    m = max(2 * degree, Nb) + 8
+    xg, wg = np.polynomial.legendre.leggauss(m)
+    C = np.polynomial.chebyshev
+    S, WQ, AREA, TH, R, Zs, LAM, Hs, Es, ends = [], [], [], [], [], [], [], [], [], {}
+    data, Q = [], []
+    for i, (a, b) in enumerate(bounds):
+        # interpolants on the base nodes' own interval, evaluated on [a, b] (the first
+        # piece's [0, eps] is an extrapolation over ~1e-4 of the piece)
+        lo, hi = float(sb[i, 0]), float(sb[i, -1])
+        xb = 2 * (sb[i] - lo) / (hi - lo) - 1
+        g1 = F[i, 0]
+        fit = {k: C.chebfit(xb, v, Nb) for k, v in
+               (("lam", g1 * X[i, 0]), ("k1", X[i, 2]), ("theta", Y[i, 2]), ("r", Y[i, 0]),
+                ("z", Y[i, 1] - eq.z_apex))}
+        s = (a + b) / 2 + (b - a) / 2 * xg
+        xs = 2 * (s - lo) / (hi - lo) - 1
+        ev = {k: C.chebval(xs, c) for k, c in fit.items()}
+        dlam = C.chebval(xs, C.chebder(fit["lam"])) * 2 / (hi - lo)
+        fv = np.broadcast_to(np.asarray(sc.field_values(i, s, eq.p), float), (4, m))
+        lam, th, r, z = ev["lam"], ev["theta"], ev["r"], ev["z"]
+        dth = -lam * ev["k1"]                   # theta' = -g1 lam1 k1 = -|x_s| k1
+        t = np.stack([np.cos(th), np.zeros_like(th), -np.sin(th)])
+        N = np.stack([np.sin(th), np.zeros_like(th), np.cos(th)])
+        q = np.concatenate([
+            np.stack([r, 0 * r, z]), lam * t, np.stack([0 * r, r, 0 * r]),
+            dlam * t - lam * dth * N, np.stack([0 * r, lam * np.cos(th), 0 * r]),
+            np.stack([-r, 0 * r, 0 * r])]).T                     # (m, 18)
+        Q.append(q)
+        data.append(np.stack([fv[0], fv[1], fv[2], fv[3], np.sin(s)], axis=-1))
+        S.append(s)
+        WQ.append((b - a) / 2 * wg)
+        AREA.append(fv[0] * fv[1] * np.sin(s))
+        TH.append(th), R.append(r), Zs.append(z), LAM.append(lam)
+        Es.append(_cheb_basis(xg, degree, 2.0 / (b - a)))
+        for side, x_end in (("a", -1.0), ("b", 1.0)):
+            xe = 2 * ((a if side == "a" else b) - lo) / (hi - lo) - 1
+            ends[(i, side)] = tuple(float(C.chebval(xe, fit[k])) for k in
+                                    ("theta", "lam", "r", "z"))
+    kernel = _hessian_kernel(sc.model, sc.material, float(sc.rhob1))
+    pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))
+    qa, da = np.concatenate(Q), np.concatenate(data)
+    H = np.asarray(kernel(qa, da, float(sc.material_parameter), float(sc.h), pressure))
+    if not np.all(np.isfinite(H)):
+        raise ConvergenceError("the second variation is not finite at this equilibrium "
+                               "(a quadrature point without a valid state)")
+    return _Base(tuple(bounds), np.stack(S), np.stack(WQ), np.stack(AREA), np.stack(TH),
+                 np.stack(R), np.stack(Zs), np.stack(LAM), H.reshape(P, m, 18, 18), ends,
+                 degree, tuple(Es), sc.edge == "clamped")
+
+
+# --- assembly -------------------------------------------------------------------------------
+def _derivative_operators(base: _Base):
+    """D (9, P m, ndof): (U, U', U'') at every quadrature point from the Chebyshev
+    coefficients, unknowns ordered piece, component (r, w, z), coefficient."""
+    P, m = base.s.shape
+    nb = base.degree + 1
+    ndof = 3 * nb * P
+    D = np.zeros((9, P * m, ndof))
+    for i in range(P):
+        E = base.E[i]
+        for order in range(3):
+            for c in range(3):
+                col = (i * 3 + c) * nb
+                D[3 * order + c, i * m:(i + 1) * m, col:col + nb] = E[order]
+    return D
+
+
+@lru_cache(maxsize=None)
+def _end_values(nb: int) -> np.ndarray:
+    """(2, 3, nb): T_k and its first two derivatives at x = -1 and x = 1 (in x)."""
+    k = np.arange(nb, dtype=float)
+    out = np.empty((2, 3, nb))
+    for side, x in enumerate((-1.0, 1.0)):
+        sgn = x ** np.arange(nb)
+        out[side] = [sgn, x * sgn * k**2, sgn * (k**4 - k**2) / 3]
+    return out
+
+
+def _end_rows(base: _Base, i: int, side: str, order: int, comp: int) -> np.ndarray:
+    """The row giving derivative ``order`` of component ``comp`` of piece i at its end."""
+    P = base.s.shape[0]
+    nb = base.degree + 1
+    a, b = base.pieces[i]
+    row = np.zeros(3 * nb * P)
+    row[(i * 3 + comp) * nb:(i * 3 + comp + 1) * nb] = \
+        _end_values(nb)[0 if side == "a" else 1, order] * (2.0 / (b - a)) ** order
+    return row
+
+
+def _pole_class(n: int) -> int:
+    return min(n, 2)
+
+
+def _constraints(base: _Base, n: int) -> np.ndarray:
+    P = base.s.shape[0]
+    rows = []
+    R = lambda i, side, order, comp: _end_rows(base, i, side, order, comp)  # noqa: E731
+    if n == 0:
+        rows += [R(0, "a", 0, 0), R(0, "a", 0, 1), R(0, "a", 1, 2)]
+    elif n == 1:
+        rows += [R(0, "a", 0, 2), R(0, "a", 0, 0) + R(0, "a", 0, 1)]
+    else:
+        rows += [R(0, "a", 0, c) for c in range(3)] + [R(0, "a", 1, 2)]
+    for i in range(P - 1):
+        rows += [R(i, "b", 0, c) - R(i + 1, "a", 0, c) for c in range(3)]
+        th, lam_l = base.ends[(i, "b")][:2]
+        lam_r = base.ends[(i + 1, "a")][1]
+        rot = lambda j, side, lam: (np.sin(th) * R(j, side, 1, 0)  # noqa: E731
+                                    + np.cos(th) * R(j, side, 1, 2)) / lam
+        rows.append(rot(i, "b", lam_l) - rot(i + 1, "a", lam_r))
+    if base.clamped:
+        th = base.ends[(P - 1, "b")][0]
+        rows += [R(P - 1, "b", 0, c) for c in range(3)]
+        rows.append(np.sin(th) * R(P - 1, "b", 1, 0) + np.cos(th) * R(P - 1, "b", 1, 2))
+    return np.array(rows)
+
+
+def _rigid(base: _Base, n: int) -> list:
+    """(name, (3, P m) values of (U_r, U_w, U_z) at the quadrature points) of a free cap."""
+    if base.clamped or n > 1:
+        return []
+    r, z = base.r.ravel(), base.z.ravel()
+    one, zero = np.ones_like(r), np.zeros_like(r)
+    if n == 0:
+        return [("axial translation", np.stack([zero, zero, one])),
+                ("rotation about the axis", np.stack([zero, r, zero]))]
+    return [("lateral translation", np.stack([one, -one, zero])),
+            ("tilt", np.stack([z, -z, -r]))]
+
+
+@dataclass(frozen=True)
+class _Space:
+    """The admissible perturbations of one pole class: a mass-orthonormal basis Z of the
+    constrained space (rigid modes removed), and the rigid modes' coefficients."""
+
+    Z: np.ndarray
+    rigid: tuple          # (name, coefficient vector) per rigid mode
+
+
+def _space(base: _Base, D, M, n: int, mass_w) -> _Space:
+    from scipy.linalg import cholesky, qr, solve_triangular
+
+    A = _constraints(base, n)
+    Q, _ = qr(A.T, mode="full")
+    Z = Q[:, A.shape[0]:]                                    # null space of the constraints
+    rigid = []
+    modes = _rigid(base, n)
+    if modes:
+        Mz = Z.T @ M @ Z
+        B = []
+        for name, vals in modes:
+            rhs = sum(D[c].T @ (mass_w * vals[c]) for c in range(3))
+            y = np.linalg.solve(Mz, Z.T @ rhs)              # best approximation, mass norm
+            rigid.append((name, Z @ y))
+            B.append(y)
+        Qb, _ = qr(Mz @ np.array(B).T, mode="full")
+        Z = Z @ Qb[:, len(B):]                              # the mass-complement
+    Lc = cholesky(Z.T @ M @ Z, lower=True)
+    Z = solve_triangular(Lc, Z.T, lower=True).T             # mass-orthonormal
+    return _Space(Z, tuple(rigid))
+
+
+def _stiffness_parts(base: _Base, D) -> dict:
+    """P_ij = (L_i D)^T H (L_j D) (quadrature weights included) for L_n = L_0 + n L_1 +
+    n^2 L_2: the stiffness of every harmonic is then sum n^(i + j) P_ij, assembled once per
+    equilibrium rather than once per n."""
+    P, m = base.s.shape
+    ndof = D.shape[-1]
+    Lm, L0, Lp = _local_map(-1), _local_map(0), _local_map(1)
+    Ls = (L0, (Lp - Lm) / 2, (Lp + Lm) / 2 - L0)
+    B = [(L @ D.reshape(9, -1)).reshape(18, P * m, ndof).transpose(1, 0, 2) for L in Ls]
+    Hw = base.H.reshape(P * m, 18, 18) * base.wq.reshape(-1)[:, None, None]
+    out = {}
+    for j in range(3):
+        T = (Hw @ B[j]).reshape(-1, ndof)
+        for i in range(j + 1):
+            out[(i, j)] = B[i].reshape(-1, ndof).T @ T
+    return out
+
+
+def _stiffness(parts: dict, n: int) -> np.ndarray:
+    K = sum(float(n) ** (i + j) * (P if i == j else P + P.T) for (i, j), P in parts.items())
+    return (K + K.T) / 2 * (2 * math.pi if n == 0 else math.pi)
+
+
+def _spectrum(base: _Base, D, parts, space: _Space, n: int, count: int,
+              M=None) -> HarmonicSpectrum:
+    from scipy.linalg import eigh
+
+    K = _stiffness(parts, n)
+    rigid = tuple((name, float(y @ K @ y / (y @ M @ y))) for name, y in space.rigid)
+    Z = space.Z
+    count = min(count, Z.shape[1])
+    vals, vecs = eigh(Z.T @ K @ Z, subset_by_index=[0, count - 1], driver="evr")
+    coef = Z @ vecs                                          # (ndof, count)
+    Ur, Uw, Uz = (D[c] @ coef for c in range(3))             # (P m, count)
+    th = base.theta.reshape(-1)[:, None]
+    u = Ur * np.cos(th) - Uz * np.sin(th)
+    w = Ur * np.sin(th) + Uz * np.cos(th)
+    sign = np.sign(w[np.argmax(np.abs(w), axis=0), np.arange(count)])
+    sign[sign == 0] = 1.0
+    return HarmonicSpectrum(int(n), vals, base.s.reshape(-1), (u * sign).T, (Uw * sign).T,
+                            (w * sign).T, rigid)
+
+
+def _mass_weights(base: _Base, n: int) -> np.ndarray:
+    return (base.wq * base.area).reshape(-1) * (2 * math.pi if n == 0 else math.pi)
+
+
+def _mass(base: _Base, D, n: int = 1) -> np.ndarray:
+    """int int |dx|^2 dA_target as a matrix on the coefficients (weight of harmonic n)."""
+    w = _mass_weights(base, n)
+    return sum(D[c].T @ (w[:, None] * D[c]) for c in range(3))
+
+
+def _check_harmonics(n) -> tuple:
+    ns = (n,) if isinstance(n, (int, np.integer)) else tuple(n)
+    if not ns:
+        raise ValueError("n must name at least one harmonic")
+    for k in ns:
+        if not isinstance(k, (int, np.integer)) or isinstance(k, bool) or not 0 <= k <= N_MAX:
+            raise ValueError(f"n must be integers in [0, {N_MAX}] (circumferential wave "
+                             f"numbers), got {k!r}")
+    return tuple(int(k) for k in ns)
+
+
+def modes(eq: Equilibrium, n=range(0, 21), *, count: int = 3, degree: int | None = None) -> Modes:
+    """The second variation of the full 2D energy at the axisymmetric equilibrium ``eq``, per
+    circumferential harmonic n (module docstring): for each n the ``count`` smallest
+    eigenvalues and their modes, rigid-body modes of a free cap excluded.
+
+    Arguments:
+        eq: a converged :class:`shellbvp.Equilibrium` (any method).
+        n: a harmonic or an iterable of harmonics (integers in [0, N_MAX]).
+        count: eigenvalues per harmonic.
+        degree: Chebyshev degree of each component per piece (default ``DEGREE``).
+
+    Raises:
+        ValueError: an unconverged equilibrium, or n, count, degree out of range.
+        ConvergenceError: the state cannot be evaluated along the meridian.
+    """
+    if not isinstance(eq, Equilibrium) or not eq.success:
+        raise ValueError("eq must be a converged Equilibrium (this one did not converge: "
+                         f"{getattr(eq, 'message', type(eq).__name__)})")
+    ns = _check_harmonics(n)
+    if not (isinstance(count, (int, np.integer)) and count >= 1):
+        raise ValueError(f"count must be a positive integer, got {count!r}")
+    degree = DEGREE if degree is None else degree
+    if not (isinstance(degree, (int, np.integer)) and 8 <= degree <= 160):
+        raise ValueError(f"degree must be an integer in [8, 160], got {degree!r}")
+    from threadpoolctl import threadpool_limits
+
+    base = _base(eq, int(degree))
+    # small dense matrices (~100-400): one BLAS thread, where several threads contend with
+    # JAX's own pool (10 ms an eigenproblem instead of 1 ms, measured on 2 cores)
+    with threadpool_limits(1, user_api="blas"):
+        return _modes(eq, base, ns, count, int(degree))
+
+
+def _modes(eq, base, ns, count, degree) -> Modes:
+    D = _derivative_operators(base)
+    parts = _stiffness_parts(base, D)
+    spaces = {}
+    spectra = []
+    for k in ns:
+        cls = _pole_class(k)
+        if cls not in spaces or cls < 2:
+            w = _mass_weights(base, k)
+            spaces[cls] = _space(base, D, _mass(base, D, k), k, w)
+        spectra.append(_spectrum(base, D, parts, spaces[cls], k, count, _mass(base, D, k)
+                                 if spaces[cls].rigid else None))
+    return Modes(float(eq.p), eq.scene.parameter, tuple(spectra), degree)

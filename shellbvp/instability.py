@@ -1,0 +1,225 @@
+"""The first instability along an axisymmetric branch: the axisymmetric fold or a bifurcation
+into n circumferential waves, whichever comes first (:mod:`shellbvp.harmonics`).
+
+Along the branch from its first point, the lowest eigenvalue of the second variation is
+computed per harmonic n at every point. Harmonics are scanned from 0 to a cutoff that is
+checked, not assumed: at least ``N_SCAN``, and beyond it until the lowest eigenvalue has
+increased with n over the last ``RISING`` harmonics (bending stiffness grows like n^4, so
+the eigenvalue is eventually increasing in n); the cutoff and that reason are part of the
+result. The first point where an eigenvalue is negative brackets the instability:
+
+* n = 0 first: the axisymmetric fold (a fold in the load is a zero of the n = 0 second
+  variation); its value is the branch's refined fold.
+* n >= 1 first: a bifurcation. Its parameter value is the root of the lowest eigenvalue
+  mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
+  own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
+  estimate is the change of that root when the perturbation degree is raised by
+  ``DEGREE_STEP``, plus the root's own tolerance.
+
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .errors import ConvergenceError
+from .harmonics import DEGREE, N_MAX, HarmonicSpectrum, modes
+from .results import Branch
+
+__all__ = ["Instability", "first_instability", "N_SCAN", "RISING"]
+
+#: harmonics always scanned: 0..N_SCAN
+N_SCAN = 20
+#: the cutoff is where the lowest eigenvalue has risen with n over this many harmonics
+RISING = 3
+#: degree increase of the error estimate
+DEGREE_STEP = 16
+
+
+@dataclass(frozen=True)
+class Instability:
+    """The first instability of an axisymmetric branch.
+
+    Attributes:
+        kind: ``"fold"`` (the axisymmetric fold comes first), ``"bifurcation"`` (a
+            non-axisymmetric mode, n >= 1, loses stability first) or ``"none"`` (neither
+            before the branch's end; ``p`` is then its last point and ``stop`` says why
+            it ended).
+        n: the harmonic (0 for a fold; -1 for none).
+        p: the parameter value (the scene's parameter, in its units unless a scene converts
+            it, see ``parameter``); w: the observable there (R0).
+        error_estimate: of p (module docstring).
+        parameter: the name of p.
+        mode: the critical mode (:class:`shellbvp.harmonics.HarmonicSpectrum` at p) or None.
+        cutoff: the highest harmonic scanned at the bracketing points; cutoff_reason: why
+            it is enough.
+        scan: per branch point up to the bracket, (p, w, lowest eigenvalue per n) rows.
+        stop: the branch's own stop reason (kind ``"none"``).
+    """
+
+    kind: str
+    n: int
+    p: float
+    w: float
+    error_estimate: float
+    parameter: str
+    mode: HarmonicSpectrum | None = field(repr=False, default=None)
+    cutoff: int = N_SCAN
+    cutoff_reason: str = field(repr=False, default="")
+    scan: tuple = field(repr=False, default=())
+    stop: str = field(repr=False, default="")
+
+    def __repr__(self) -> str:
+        head = {"fold": "axisymmetric fold", "bifurcation": f"bifurcation into n = {self.n}",
+                "none": "none before the branch's end"}[self.kind]
+        return (f"Instability({head} at {self.parameter} = {self.p:.8g} +- "
+                f"{self.error_estimate:.1e}, w = {self.w:.6g} R0, harmonics 0..{self.cutoff})")
+
+    def scaled(self, factor: float, parameter: str) -> "Instability":
+        """The same with p and its error divided by ``factor`` (a scene's unit)."""
+        return replace(self, p=self.p / factor, error_estimate=self.error_estimate / factor,
+                       parameter=parameter)
+
+
+def _lowest(spectra) -> dict:
+    return {sp.n: sp.lowest for sp in spectra}
+
+
+def _scan_point(eq, degree, n_scan):
+    """The lowest eigenvalue per harmonic at ``eq``, over 0..cutoff (module docstring)."""
+    M = modes(eq, range(0, n_scan + 1), count=1, degree=degree)
+    low = _lowest(M.spectra)
+    n = n_scan
+    while not _rising(low, n):
+        if n >= N_MAX:
+            raise ConvergenceError(f"the lowest eigenvalue does not rise with n up to n = "
+                                   f"{N_MAX} at {eq.scene.parameter} = {eq.p:.6g}: no cutoff")
+        extra = modes(eq, range(n + 1, min(n + 10, N_MAX) + 1), count=1, degree=degree)
+        low.update(_lowest(extra.spectra))
+        n = max(low)
+    return low, n
+
+
+def _rising(low: dict, n: int) -> bool:
+    vals = [low[k] for k in range(n - RISING, n + 1)]
+    return all(b > a for a, b in zip(vals, vals[1:])) and vals[-1] > min(low.values()) \
+        and vals[-1] > 0
+
+
+def first_instability(branch: Branch, *, degree: int | None = None, tol: float = 1e-6,
+                      n_scan: int = N_SCAN) -> Instability:
+    """The first instability along ``branch`` (module docstring).
+
+    Arguments:
+        branch: an axisymmetric branch (:func:`shellbvp.follow` or a scene's ``branch``),
+            followed from the state whose stability is in question.
+        degree: Chebyshev degree of the perturbations (default ``DEGREE``).
+        tol: relative tolerance of the located parameter value.
+        n_scan: harmonics always scanned, 0..n_scan (>= RISING).
+
+    Raises:
+        ValueError: bad arguments (n_scan below RISING, tol outside (0, 1), an empty branch).
+        ConvergenceError: a bifurcation bracketed but not located (with the bracket), or
+            no cutoff below N_MAX.
+    """
+    if not isinstance(branch, Branch) or not branch.points:
+        raise ValueError("branch must be a shellbvp.Branch with points")
+    if not (isinstance(n_scan, (int, np.integer)) and RISING <= n_scan <= N_MAX):
+        raise ValueError(f"n_scan must be an integer in [{RISING}, {N_MAX}] (the cutoff "
+                         f"cannot lie below the harmonics it is checked on), got {n_scan!r}")
+    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+        raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+    degree = DEGREE if degree is None else degree
+    name = branch.scene.parameter
+    rows, prev, cutoff = [], None, n_scan
+    for i in range(len(branch.points)):
+        eq = branch.equilibrium(i)
+        low, cutoff = _scan_point(eq, degree, n_scan)
+        rows.append((eq.p, eq.w, low))
+        neg = {n: mu for n, mu in low.items() if mu < 0}
+        if neg and i == 0:
+            raise ValueError(f"the branch's first point ({name} = {eq.p:.6g}) is already "
+                             f"unstable (n = {sorted(neg)}): follow it from a stable state")
+        if neg:
+            return _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
+        prev = low
+    last = branch.equilibrium(len(branch.points) - 1)
+    return Instability("none", -1, float(last.p), float(last.w), math.nan, name, None, cutoff,
+                       _cutoff_reason(cutoff), tuple(rows), branch.stop)
+
+
+def _cutoff_reason(cutoff):
+    return (f"harmonics 0..{cutoff} scanned at every point; the lowest eigenvalue is "
+            f"positive and rises with n over n = {cutoff - RISING}..{cutoff}")
+
+
+def _fold_in(branch, i):
+    """The branch's fold between points i - 1 and i, if any."""
+    for f in branch.folds:
+        if f.index == i - 1:
+            return f
+    return None
+
+
+def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
+    from .driver import solve
+
+    sc, name = branch.scene, branch.scene.parameter
+    fold = _fold_in(branch, i)
+    eq_a = branch.equilibrium(i - 1)
+    p_a, p_b = float(eq_a.p), float(branch.points[i].p)
+    candidates = sorted((n for n, mu in low.items() if mu < 0 and n > 0),
+                        key=lambda n: low[n])
+    if fold is not None:
+        # the bracket holds the fold: a bifurcation comes first only if already unstable there
+        eq_f = fold.equilibrium
+        low_f = _lowest(modes(eq_f, sorted(n for n in low if n > 0), count=1,
+                              degree=degree).spectra)
+        candidates = sorted((n for n, mu in low_f.items() if mu < 0), key=lambda n: low_f[n])
+        p_b = float(fold.p)
+        if not candidates:
+            mode = modes(eq_f, [0], count=1, degree=degree)[0]
+            return Instability("fold", 0, float(fold.p), float(fold.w),
+                               float(fold.error_estimate), name, mode, cutoff,
+                               _cutoff_reason(cutoff), rows)
+    elif 0 in low and low[0] < 0 and not candidates:
+        raise ConvergenceError(f"the n = 0 eigenvalue is negative between {name} = {p_a:.8g} "
+                               f"and {p_b:.8g} with no fold of the branch there")
+    # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root
+    best = None
+    guesses = {"eq": eq_a}
+
+    def mu(p, n, deg):
+        eq = solve(sc, p, method=branch.method, guess=guesses["eq"], estimate_error=False)
+        guesses["eq"] = eq
+        return modes(eq, [n], count=1, degree=deg)[n].lowest
+
+    from scipy.optimize import brentq
+
+    for n in candidates:
+        try:
+            roots = []
+            for deg in (degree, degree + DEGREE_STEP):
+                guesses["eq"] = eq_a
+                roots.append(brentq(mu, p_a, p_b, args=(n, deg),
+                                    xtol=tol * max(abs(p_a), abs(p_b), 1e-12), rtol=1e-14,
+                                    maxiter=100))
+        except (ValueError, RuntimeError, ConvergenceError) as exc:
+            raise ConvergenceError(f"the bifurcation into n = {n} between {name} = {p_a:.10g} "
+                                   f"and {p_b:.10g} was not located: {exc}") from exc
+        if best is None or _before(roots[0], best[1], p_a, p_b):
+            best = (n, roots[0], abs(roots[1] - roots[0]))
+    n, p, err = best
+    eq = solve(sc, p, method=branch.method, guess=eq_a, estimate_error=False)
+    mode = modes(eq, [n], count=1, degree=degree)[n]
+    return Instability("bifurcation", n, float(p), float(eq.w),
+                       float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),
+                       rows)
+
+
+def _before(p, q, p_a, p_b) -> bool:
+    """Whether p comes before q going from p_a to p_b."""
+    return (p - q) * (p_b - p_a) < 0
