@@ -47,7 +47,8 @@ import shellbvp
 from shellbvp import Chebyshev, ContinuationOptions, Ritz, Scene
 
 __all__ = ["THETA", "H", "LAM", "PATCH", "GAMMAS", "scene", "patch", "gammas", "method_for",
-           "branch", "equilibrium", "equilibrium_near", "diagnose", "Diagnosis"]
+           "branch", "equilibrium", "equilibrium_near", "diagnose", "Diagnosis",
+           "first_instability"]
 
 THETA = math.pi / 8          # opening half-angle
 H = 0.005 / 0.25             # h0 / R0
@@ -223,3 +224,12 @@ def diagnose(b: shellbvp.Branch, every: int = 1) -> Diagnosis:
                      eq.hessian_block.min(), eq.pole_hessian_min))
     a = np.array(rows).T
     return Diagnosis(*a)
+
+
+def first_instability(eta_a, eta_b, kbar_max=300.0, *, gammas="paper", tol: float = 1e-6,
+                      degree: int | None = None) -> shellbvp.Instability:
+    """The first non-axisymmetric bifurcation (or fold) along the budding branch
+    (:func:`branch`, p = kbar), or kind ``"none"`` with the branch's last kbar and its
+    stop reason when the branch ends first (:func:`shellbvp.first_instability`)."""
+    b = branch(eta_a, eta_b, kbar_max, gammas=gammas)
+    return shellbvp.first_instability(b, tol=tol, degree=degree)

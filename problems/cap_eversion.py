@@ -39,7 +39,7 @@ BRACKET_RTOL = 1e-5
 ONSET_STEP = 0.05
 
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve",
-           "SnapCurve", "CURVE_COLUMNS", "onset", "Onset", "flat_slope"]
+           "SnapCurve", "CURVE_COLUMNS", "onset", "Onset", "flat_slope", "first_instability"]
 
 
 def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene:
@@ -146,6 +146,18 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam,
                       model, material, T, dict(b.stats) | {"fold": f.stats}, fold=f,
                       gradient=shellbvp.fold_gradient(f) if gradient else None)
+
+
+def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
+                      tol: float = 1e-6, degree: int | None = None) -> shellbvp.Instability:
+    """The cap's first instability along the branch from kappa = 0 (p = kappa R0): the
+    axisymmetric snap (kind ``"fold"``, kappa_s) or a bifurcation into n circumferential
+    waves before it (:func:`shellbvp.first_instability`). The cap is free: its rigid
+    motions are zero modes of n = 0 and 1, excluded (:mod:`shellbvp.harmonics`). ``tol``:
+    relative tolerance of the located kappa; ``degree``: of the perturbations."""
+    b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
+               tol=min(tol, TOL), energies=False)
+    return shellbvp.first_instability(b, tol=tol, degree=degree)
 
 
 #: the columns of a kappa_s sweep's CSV, with their units (the first six as before; status

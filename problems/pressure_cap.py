@@ -42,7 +42,7 @@ from shellbvp import ContinuationOptions, PressureResult, Scene
 from shellbvp.cache import atomic_write_text
 
 __all__ = ["scene", "geometry", "pressure_scale", "branch", "critical_pressure",
-           "PressureResult", "membrane_state", "pressure", "unstimulated"]
+           "PressureResult", "membrane_state", "pressure", "unstimulated", "first_instability"]
 
 #: the branch stops when the apex has gone this many rises down (past full inversion, -2 H)
 W_STOP_RISES = 2.4
@@ -206,3 +206,17 @@ def membrane_state(p_over_p0, lambda_B, R_over_t=100.0, nu=0.3, *, material="koi
     c = pressure_scale(h, nu, material=material, lam=lam)
     P = p_over_p0 * c
     return P / 2.0 * (1.0 - nu_) / E, P
+
+
+def first_instability(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
+                      model="relaxed", tol: float = 1e-6,
+                      degree: int | None = None) -> shellbvp.Instability:
+    """The first instability of the clamped cap under pressure, p = p / p0: the axisymmetric
+    snap (kind ``"fold"``) or a bifurcation into n circumferential waves before it
+    (:func:`shellbvp.first_instability`; the follower pressure's stiffness included). The
+    classical result (Huang 1964) is a bifurcation below the snap for lambda_B above
+    ~5.5."""
+    b = branch(lambda_B, R_over_t, nu, material=material, lam=lam, model=model,
+               tol=min(tol, 1e-8))
+    c = pressure_scale(b.scene.h, nu, material=material, lam=lam)
+    return shellbvp.first_instability(b, tol=tol, degree=degree).scaled(c, "p_over_p0")

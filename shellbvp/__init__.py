@@ -15,7 +15,8 @@ Solving and continuation
     solve, follow, at_monitor, fold_near, fold_curve_point, fold_gradient,
     ContinuationOptions
 Stability
-    second_variation
+    second_variation; beyond axisymmetry: modes (per harmonic n), modes_along (per point of
+    a branch), first_instability, Instability, Modes
 Results
     Equilibrium, Branch, Fold, MonitorPoint, FoldCurvePoint, SecondVariation, SnapResult,
     Onset, PressureResult, SnapCurve, ConvergenceError
@@ -47,6 +48,8 @@ from .results import Branch, Equilibrium, Fold
 from .scene import Scene, uniform_curvature
 from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
+from .harmonics import Modes, modes
+from .instability import Instability, first_instability, modes_along
 
 try:
     __version__ = _version("shellbvp")
@@ -59,7 +62,7 @@ __all__ = [
     "Chebyshev", "Shooting", "Collocation", "Ritz", "as_method",
     "solve", "follow", "at_monitor", "fold_near", "fold_curve_point", "fold_gradient",
     "ContinuationOptions",
-    "second_variation",
+    "second_variation", "modes", "modes_along", "first_instability", "Instability", "Modes",
     "Equilibrium", "Branch", "Fold", "MonitorPoint", "FoldCurvePoint", "SecondVariation",
     "SnapResult", "Onset", "PressureResult", "SnapCurve", "ConvergenceError",
     "__version__",

@@ -26,7 +26,8 @@ from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
 
-__all__ = ["point_functions", "PointFunctions", "energy_function", "solve_2x2", "NEWTON_TOL"]
+__all__ = ["point_functions", "PointFunctions", "energy_function", "general_energy_function",
+           "solve_2x2", "NEWTON_TOL"]
 
 #: inner (lam1, k1) Newton: converges quadratically from the pole-like guess in 3-6 steps;
 #: 40 only bounds the work on a wild outer iterate (which then reports failure).
@@ -103,6 +104,22 @@ def energy_function(model, material, rhob1):
     on arrays), per unit target area, mu* and thickness: the reduced energy the compiled
     equations are derived from, for computations on the energy itself (its Hessian)."""
     return _energy_jax(model, material, float(rhob1))
+
+
+@lru_cache(maxsize=None)
+def general_energy_function(model, material):
+    """W of general (non-diagonal) forms as a JAX function of the joint invariants
+    :data:`shellbvp.reduction.GENERAL` (:mod:`shellbvp.forms`), generated like the principal
+    energy (its source kept on disk)."""
+    def build():
+        import sympy as sp
+
+        from . import reduction as R
+
+        return {"W": sp.lambdify(R.GENERAL, R.general_energy(model, material), modules="jax",
+                                 cse=True)}
+
+    return _generated(_source_key("general-energy", model, material), build)["W"]
 
 
 @lru_cache(maxsize=None)

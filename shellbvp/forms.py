@@ -97,23 +97,6 @@ def _density(phi, dphi, phib, dphib, a, b, abar, bbar, lam, material):
     return ((I1 - 3 - logI3) / 2 + lam / 4 * (I3 - 1 - logI3)) * vol
 
 
-@lru_cache(maxsize=None)
-def _general_function(model: str, material: str):
-    """W of the invariants :data:`shellbvp.reduction.GENERAL` as a JAX function (the
-    generated source kept on disk, as for the principal energy)."""
-    from .compiled import _generated, _source_key
-
-    def build():
-        import sympy as sp
-
-        from . import reduction as R
-
-        return {"W": sp.lambdify(R.GENERAL, R.general_energy(model, material), modules="jax",
-                                 cse=True)}
-
-    return _generated(_source_key("general-energy", model, material), build)["W"]
-
-
 def invariants(a, b, abar, bbar):
     """The joint invariants W depends on (:data:`shellbvp.reduction.GENERAL`, without lam, h
     and the stimulus): tr C, Js, H, K, Hb, Kb, tr(CS), tr(CSS), tr(SbC), tr(SbSbC),
@@ -149,7 +132,9 @@ def reduced_energy(a, b, abar, bbar, *, h, lam=1.0, model="relaxed", material="c
             return (nu * jnp.trace(X) ** 2 + (1 - nu) * jnp.trace(X @ X)) / (1 - nu)
 
         return quad(E) / 4 + h**2 / 12 * quad(B)
-    W = _general_function("relaxed" if material == "nh" else model, material)
+    from .compiled import general_energy_function
+
+    W = general_energy_function("relaxed" if material == "nh" else model, material)
     return W(*invariants(a, b, abar, bbar), lam, h, *rhob)
 
 

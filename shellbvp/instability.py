@@ -29,7 +29,7 @@ from .errors import ConvergenceError
 from .harmonics import DEGREE, N_MAX, HarmonicSpectrum, modes
 from .results import Branch
 
-__all__ = ["Instability", "first_instability", "N_SCAN", "RISING"]
+__all__ = ["Instability", "first_instability", "modes_along", "N_SCAN", "RISING"]
 
 #: harmonics always scanned: 0..N_SCAN
 N_SCAN = 20
@@ -82,6 +82,16 @@ class Instability:
         """The same with p and its error divided by ``factor`` (a scene's unit)."""
         return replace(self, p=self.p / factor, error_estimate=self.error_estimate / factor,
                        parameter=parameter)
+
+
+def modes_along(branch: Branch, n=range(0, N_SCAN + 1), *, count: int = 1,
+                degree: int | None = None) -> tuple:
+    """The stability of every point of ``branch`` per circumferential harmonic: one
+    :class:`shellbvp.harmonics.Modes` per point (:func:`shellbvp.modes`)."""
+    if not isinstance(branch, Branch) or not branch.points:
+        raise ValueError("branch must be a shellbvp.Branch with points")
+    return tuple(modes(branch.equilibrium(i), n, count=count, degree=degree)
+                 for i in range(len(branch.points)))
 
 
 def _lowest(spectra) -> dict:
@@ -189,31 +199,37 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         raise ConvergenceError(f"the n = 0 eigenvalue is negative between {name} = {p_a:.8g} "
                                f"and {p_b:.8g} with no fold of the branch there")
     # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root
-    best = None
-    guesses = {"eq": eq_a}
-
-    def mu(p, n, deg):
-        eq = solve(sc, p, method=branch.method, guess=guesses["eq"], estimate_error=False)
-        guesses["eq"] = eq
-        return modes(eq, [n], count=1, degree=deg)[n].lowest
-
     from scipy.optimize import brentq
 
+    best = None
     for n in candidates:
+        state = {"eq": eq_a, "log": []}
+
+        def mu(p, deg=degree):
+            eq = solve(sc, p, method=branch.method, guess=state["eq"], estimate_error=False)
+            state["eq"] = eq
+            val = modes(eq, [n], count=1, degree=deg)[n].lowest
+            state["log"].append((p, val))
+            return val
+
         try:
-            roots = []
-            for deg in (degree, degree + DEGREE_STEP):
-                guesses["eq"] = eq_a
-                roots.append(brentq(mu, p_a, p_b, args=(n, deg),
-                                    xtol=tol * max(abs(p_a), abs(p_b), 1e-12), rtol=1e-14,
-                                    maxiter=100))
+            root = brentq(mu, p_a, p_b, xtol=tol * max(abs(p_a), abs(p_b), 1e-12),
+                          rtol=1e-14, maxiter=100)
+            # the perturbation degree's error: mu at the root on a finer degree, over the
+            # slope of mu between the last evaluations on either side of the root
+            log = sorted(state["log"])
+            lo = max((q for q in log if q[0] <= root), default=log[0])
+            hi = min((q for q in log if q[0] > root), default=log[-1])
+            slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+            state["eq"] = solve(sc, root, method=branch.method, guess=state["eq"],
+                                estimate_error=False)
+            fine = modes(state["eq"], [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             raise ConvergenceError(f"the bifurcation into n = {n} between {name} = {p_a:.10g} "
                                    f"and {p_b:.10g} was not located: {exc}") from exc
-        if best is None or _before(roots[0], best[1], p_a, p_b):
-            best = (n, roots[0], abs(roots[1] - roots[0]))
-    n, p, err = best
-    eq = solve(sc, p, method=branch.method, guess=eq_a, estimate_error=False)
+        if best is None or _before(root, best[1], p_a, p_b):
+            best = (n, root, abs(fine / slope), state["eq"])
+    n, p, err, eq = best
     mode = modes(eq, [n], count=1, degree=degree)[n]
     return Instability("bifurcation", n, float(p), float(eq.w),
                        float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),

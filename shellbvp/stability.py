@@ -31,7 +31,8 @@ import numpy as np
 from .results import Equilibrium
 
 
-__all__ = ["SecondVariation", "second_variation", "stable_point"]
+__all__ = ["SecondVariation", "second_variation", "stable_point", "modes", "Modes",
+           "HarmonicSpectrum"]
 
 
 @dataclass(frozen=True)
@@ -216,3 +217,9 @@ def stable_point(system, pt) -> str:
             f"before {name} = {pt.p:.6g} (smallest eigenvalue {lam:.3g}, its mode largest at "
             f"s = {s_mode:.4g}; Legendre condition min {L:.3g} at s = {s_L:.4g}, {L0:.3g} on "
             f"the undeformed shell): {verdict} ({where})")
+
+
+# beyond axisymmetry (the second variation per circumferential harmonic): the same question,
+# asked of the full 2D shell
+# (the first instability along a branch: shellbvp.first_instability)
+from .harmonics import HarmonicSpectrum, Modes, modes  # noqa: E402

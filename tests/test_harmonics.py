@@ -1,0 +1,107 @@
+"""Stability beyond axisymmetry (shellbvp.harmonics, shellbvp.instability): the second
+variation per circumferential harmonic against what it must be.
+
+References: the axisymmetric fold found by the Euler-Lagrange continuation (dp/dw = 0,
+another computation) is a zero of the n = 0 eigenvalue, whose sign agrees with the
+independent axisymmetric second variation (shellbvp.stability.second_variation) before and
+after it; the free cap's rigid motions (translations, rotations: closed forms) are zero
+modes of n = 0 and 1 at every stimulus, the clamped cap has none; the reflection symmetry of
+the base state decouples the cos and sin components exactly; spectral convergence with the
+degree; and the published bifurcation of the clamped cap under pressure at lambda_B = 6
+(Huang 1964; Teng & Rotter 1989b, Table 3: p/p0 = 0.775-0.777, n = 2, Koiter, nu = 1/3,
+R/t = 100).
+"""
+
+import math
+from functools import lru_cache
+
+import numpy as np
+import pytest
+
+import shellbvp
+from shellbvp import harmonics as H
+from shellbvp.problems import cap_eversion as ce
+from shellbvp.problems import pressure_cap as pc
+from shellbvp.stability import second_variation
+from test_stability import snap_branch      # the same branch, followed once per test process
+
+THETA, H0 = math.pi / 6, 0.01
+
+
+@lru_cache(maxsize=None)
+def cap_at(kappa):
+    return ce.equilibrium(kappa, THETA, H0)
+
+
+def test_n0_vanishes_at_the_fold_and_agrees_in_sign_with_the_axisymmetric_analysis():
+    b = snap_branch()
+    fold = b.folds[0].equilibrium
+    mu_fold = H.modes(fold, [0], count=2)[0].eigenvalues
+    assert abs(mu_fold[0]) < 1e-6 * mu_fold[1]
+    before, after = cap_at(2.0), b.equilibrium(len(b.points) - 1)      # after: past the fold
+    for eq in (before, after):
+        mine = H.modes(eq, [0])[0].lowest
+        theirs = second_variation(eq).eigenvalues[0]
+        assert np.sign(mine) == np.sign(theirs) != 0
+    assert after.p < b.folds[0].p and H.modes(after, [0])[0].lowest < 0
+
+
+def test_free_cap_has_its_rigid_modes_at_every_stimulus_clamped_cap_none():
+    for kappa in (0.0, 2.0):
+        M = H.modes(cap_at(kappa), [0, 1, 2])
+        scale = min(sp.lowest for sp in M.spectra)
+        assert scale > 0                                   # stable, rigid modes excluded
+        names = [name for sp in M.spectra[:2] for name, _ in sp.rigid]
+        assert names == ["axial translation", "rotation about the axis",
+                         "lateral translation", "tilt"]
+        for sp in M.spectra[:2]:
+            for _, q in sp.rigid:
+                assert abs(q) < 1e-8 * scale
+        assert M[2].rigid == ()
+    clamped = pc.branch(6, 100.0, 1 / 3).equilibrium(0)
+    M = H.modes(clamped, [0, 1, 2])
+    assert all(sp.rigid == () and sp.lowest > 0 for sp in M.spectra)
+
+
+def test_cos_and_sin_components_decouple_and_the_form_is_symmetric():
+    base = H._base(cap_at(2.0), 16)
+    even = [0, 2, 3, 5, 7, 9, 11, 13, 15, 17]        # r, z of x, x_s, x_ss, x_oo; o of x_o, x_so
+    odd = [k for k in range(18) if k not in even]
+    Hq = base.H.reshape(-1, 18, 18)
+    assert np.max(np.abs(Hq[:, even][:, :, odd])) < 1e-10 * np.max(np.abs(Hq))
+    assert np.allclose(Hq, np.transpose(Hq, (0, 2, 1)), rtol=0, atol=1e-9 * np.max(np.abs(Hq)))
+
+
+def test_eigenvalues_converge_with_the_degree():
+    eq = cap_at(2.0)
+    ref = np.array([sp.lowest for sp in H.modes(eq, [0, 2, 3, 8], degree=24).spectra])
+    err = [np.max(np.abs(np.array([sp.lowest for sp in H.modes(eq, [0, 2, 3, 8],
+                                                                  degree=d).spectra]) - ref)
+                  / np.abs(ref)) for d in (8, 12, 16)]
+    assert err[0] > err[1] > err[2] and err[2] < 1e-6, err
+
+
+def test_bad_input_is_named():
+    eq = cap_at(2.0)
+    for n in (-1, 1.5, [], [0, 999]):
+        with pytest.raises(ValueError, match="n must"):
+            H.modes(eq, n)
+    with pytest.raises(ValueError, match="count"):
+        H.modes(eq, [0], count=0)
+    with pytest.raises(ValueError, match="degree"):
+        H.modes(eq, [0], degree=4)
+    failed = shellbvp.solve(eq.scene, 2.0, guess=lambda s: np.full((6, np.size(s)), np.nan),
+                            throw=False)
+    with pytest.raises(ValueError, match="converged"):
+        H.modes(failed, [0])
+    with pytest.raises(ValueError, match="n_scan"):
+        shellbvp.first_instability(snap_branch(), n_scan=1)
+
+
+def test_clamped_cap_under_pressure_bifurcates_as_published_at_lambda_6():
+    inst = pc.first_instability(6, 100.0, 1 / 3)
+    assert inst.kind == "bifurcation" and inst.n == 2
+    assert inst.p == pytest.approx(0.776, rel=0.01)          # published 0.775-0.777
+    assert inst.cutoff >= 20 and "rises" in inst.cutoff_reason
+    snap = pc.critical_pressure(6, nu=1 / 3).p_cr_over_p0
+    assert inst.p < 0.8 * snap
