@@ -3,6 +3,7 @@
     shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
     shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv [--jobs 2] [--resume]
+    shellbvp stability --theta 0.5236 --h 0.01 --lam 1
 
 Bad arguments exit with code 2 and one line on stderr; a solver failure exits with 1. A
 sweep never stops on one cap: every cap gets a row (status ok / no snap / failed, and the
@@ -34,7 +35,7 @@ def _range(text):
     return np.arange(a, b + 0.5 * step, step)
 
 
-def _common(p, theta=True):
+def _common(p, theta=True, method=True):
     if theta:
         p.add_argument("--theta", type=float, default=math.pi / 6,
                        help="opening half-angle Theta in radians, in (0, pi) (default pi/6)")
@@ -48,10 +49,11 @@ def _common(p, theta=True):
                    help="Poisson ratio, material koiter only (default 0.5)")
     p.add_argument("--tol", type=float, default=1e-9,
                    help="target accuracy of kappa_s, in (0, 1) (default 1e-9)")
-    p.add_argument("--method", default="spectral",
-                   choices=["spectral", "shooting", "collocation", "energy"],
-                   help="discretisation (default spectral: Chebyshev collocation; energy: "
-                        "direct minimisation of the discrete energy)")
+    if method:
+        p.add_argument("--method", default="spectral",
+                       choices=["spectral", "shooting", "collocation", "energy"],
+                       help="discretisation (default spectral: Chebyshev collocation; "
+                            "energy: direct minimisation of the discrete energy)")
 
 
 def _sweep(a, ce, opts) -> int:
@@ -116,6 +118,9 @@ def parser():
                         f"{CHUNK_SIZE})")
     w.add_argument("--resume", action="store_true",
                    help="continue an interrupted sweep from its journal (CSV.journal)")
+    st = sub.add_parser("stability", help="first instability of one cap beyond axisymmetry: "
+                                          "the snap or a bifurcation into n waves")
+    _common(st, method=False)
     return p
 
 
@@ -128,7 +133,9 @@ def main(argv=None) -> int:
 
     use_persistent_cache(default=True)   # a later command starts in seconds
 
-    opts = dict(model=a.model, material=a.material, nu=a.nu, method=a.method)
+    opts = dict(model=a.model, material=a.material, nu=a.nu)
+    if a.command != "stability":
+        opts["method"] = a.method
     if not (0 < a.tol < 1):
         p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
     try:
@@ -146,6 +153,17 @@ def main(argv=None) -> int:
                 print(f"w_s / R0   = {r.w_s:.10f}")
             else:
                 print("no snap: the cap everts without a fold (kappa_s undefined)")
+        elif a.command == "stability":
+            r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, **opts)
+            print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, {_material(a)}, "
+                  f"T = Theta sqrt(R0/h0) = {a.theta / math.sqrt(a.h):.4g}")
+            what = {"fold": "the axisymmetric snap (fold)",
+                    "bifurcation": f"a bifurcation into n = {r.n} circumferential waves",
+                    "none": "none up to full eversion"}[r.kind]
+            print(f"first instability: {what}" + (
+                f" at kappa R0 = {r.p:.8f} +- {r.error_estimate:.1e}, w / R0 = {r.w:.6f}"
+                if r.kind != "none" else ""))
+            print(f"harmonics n = 0..{r.cutoff} checked ({r.cutoff_reason})")
         elif a.command == "branch":
             br = ce.branch(a.theta, a.h, a.lam, kappa_max=a.kappa_max, tol=a.tol, **opts)
             br.to_csv(a.csv)

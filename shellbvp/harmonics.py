@@ -271,8 +271,15 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
     tb = chebyshev_points(Nb)
     sb = np.stack([bvp.s_of(i, tb) for i in range(P)])          # from eps on the first piece
     Y = np.stack([eq.unknowns(sb[i]) for i in range(P)])         # (P, 6, Nb + 1)
-    hint = np.stack([np.stack([np.interp(sb[i], eq.s, eq.lam1), np.interp(sb[i], eq.s, eq.k1)],
-                              axis=-1) for i in range(P)])
+    # the inner roots' starts from the equilibrium's own nodes on the same piece: lam1 and k1
+    # jump at an interface of the stimulus, and a start from the other side can converge to
+    # another root of the constitutive inversion
+    hint = []
+    for i in range(P):
+        on = (eq.s > bvp.a[i] if i else eq.s > -np.inf) & (eq.s <= bvp.b[i])
+        hint.append(np.stack([np.interp(sb[i], eq.s[on], eq.lam1[on]),
+                              np.interp(sb[i], eq.s[on], eq.k1[on])], axis=-1))
+    hint = np.stack(hint)
     X, F = bvp.state(sb, Y, eq.p, hint)                         # (P, 4, Nb + 1)
     m = max(2 * degree, Nb) + 8
     xg, wg = np.polynomial.legendre.leggauss(m)

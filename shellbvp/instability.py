@@ -14,7 +14,8 @@ result. The first point where an eigenvalue is negative brackets the instability
   mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
   estimate is the change of that root when the perturbation degree is raised by
-  ``DEGREE_STEP``, plus the root's own tolerance.
+  ``DEGREE_STEP``, plus the root's own tolerance; where that change exceeds ``UNRESOLVED``
+  of the bracket the result is a ConvergenceError, not an answer.
 
 """
 
@@ -37,6 +38,8 @@ N_SCAN = 20
 RISING = 3
 #: degree increase of the error estimate
 DEGREE_STEP = 16
+#: a located root whose degree error exceeds this fraction of its bracket is not an answer
+UNRESOLVED = 0.25
 
 
 @dataclass(frozen=True)
@@ -202,11 +205,24 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     from scipy.optimize import brentq
 
     best = None
+    eq_b = fold.equilibrium if fold is not None else branch.equilibrium(i)
+    solved = {p_a: eq_a, p_b: eq_b}
+
+    def equilibrium_at(p):
+        """Solved from the nearest equilibrium already known (the bracket can be a long
+        continuation step: one natural-parameter jump across it may not converge)."""
+        near = solved[min(solved, key=lambda q: abs(q - p))]
+        if near.p == p:
+            return near
+        eq = solve(sc, p, method=branch.method, guess=near, estimate_error=False)
+        solved[p] = eq
+        return eq
+
     for n in candidates:
-        state = {"eq": eq_a, "log": []}
+        state = {"log": []}
 
         def mu(p, deg=degree):
-            eq = solve(sc, p, method=branch.method, guess=state["eq"], estimate_error=False)
+            eq = equilibrium_at(p)
             state["eq"] = eq
             val = modes(eq, [n], count=1, degree=deg)[n].lowest
             state["log"].append((p, val))
@@ -221,8 +237,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             lo = max((q for q in log if q[0] <= root), default=log[0])
             hi = min((q for q in log if q[0] > root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
-            state["eq"] = solve(sc, root, method=branch.method, guess=state["eq"],
-                                estimate_error=False)
+            state["eq"] = equilibrium_at(root)
             fine = modes(state["eq"], [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             raise ConvergenceError(f"the bifurcation into n = {n} between {name} = {p_a:.10g} "
@@ -230,6 +245,12 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         if best is None or _before(root, best[1], p_a, p_b):
             best = (n, root, abs(fine / slope), state["eq"])
     n, p, err, eq = best
+    if err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
+        raise ConvergenceError(
+            f"the bifurcation into n = {n} at {name} ~ {p:.6g} (bracket {p_a:.6g} .. "
+            f"{p_b:.6g}) is not resolved: raising the perturbation degree from {degree} to "
+            f"{degree + DEGREE_STEP} moves it by ~{err:.3g}; the second variation does not "
+            f"converge with the degree at this equilibrium")
     mode = modes(eq, [n], count=1, degree=degree)[n]
     return Instability("bifurcation", n, float(p), float(eq.w),
                        float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),

@@ -21,6 +21,8 @@ from shellbvp import cli
     (["sweep", "--T", "3:1:1", "--csv", "x.csv"], "0 < START <= STOP"),
     (["sweep", "--T", "a:b", "--csv", "x.csv"], "START:STOP:STEP"),
     (["branch", "--theta", "0.5"], "--csv"),
+    (["stability", "--h", "2"], "h must lie in (1e-06, 1)"),
+    (["stability", "--method", "shooting"], "unrecognized arguments"),
     ([], "command"),
 ])
 def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
@@ -32,7 +34,8 @@ def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
 
 
 def test_help_everywhere(capsys):
-    for argv in (["--help"], ["snap", "--help"], ["branch", "--help"], ["sweep", "--help"]):
+    for argv in (["--help"], ["snap", "--help"], ["branch", "--help"], ["sweep", "--help"],
+                 ["stability", "--help"]):
         with pytest.raises(SystemExit) as e:
             cli.main(argv)
         assert e.value.code == 0
@@ -101,3 +104,11 @@ def test_written_files_have_ordinary_permissions(tmp_path):
         os.umask(old)
     mode = lambda name: os.stat(tmp_path / name).st_mode & 0o777  # noqa: E731
     assert mode("a.csv") == mode("b.csv") == mode("c.png") == 0o644
+
+
+def test_stability_command_prints_the_first_instability(capsys):
+    """The default cap (T = 5.24) leaves axisymmetry before it snaps: n = 3 at kappa R0 =
+    4.1758, below kappa_s = 4.2214 (tests/test_harmonics.py checks the pieces)."""
+    assert cli.main(["stability", "--theta", str(math.pi / 6), "--h", "0.01"]) == 0
+    out = capsys.readouterr().out
+    assert "bifurcation into n = 3" in out and "kappa R0 = 4.1757" in out
