@@ -41,7 +41,11 @@ r^(n -+ 1)), imposed at s = 0:
 
 A clamped edge has U = 0 and no rotation of the tangent out of the surface,
 U_r' sin(theta) + U_z' cos(theta) = 0. Across an interface of a piecewise stimulus U and the
-rotation (dx_s . N) / |x_s| are continuous. A free edge has no conditions: the cap's rigid
+rotation (dx_s . N) / |x_s| are continuous. Where the stretch |x_s| jumps there, "the tangent
+plane does not fold" (x_s^r . (x_s^l x x_o) = 0) is not linear in dx: the second variation
+on the admissible set is then the Hessian of the Lagrangian, whose extra term (the interface
+moment times the condition's second variation) is included; without it the eigenvalues fall
+without bound as the degree grows. A free edge has no conditions: the cap's rigid
 motions are then zero-energy modes (n = 0: axial translation U_z = 1, rotation about the
 axis U_w = r; n = 1: lateral translation (1, -1, 0), tilt (z, -z, -r)); they are identified
 (their Rayleigh quotients reported) and the spectrum is computed on their complement in the
@@ -198,7 +202,8 @@ def _hessian_kernel(model: str, material: str, rhob1: float):
         HW = jax.jacfwd(jax.grad(energy))(ab, d, mat, h)
         J = jax.jacfwd(forms)(q)
         Hg = jax.hessian(lambda x: jnp.dot(gW, forms(x)))(q)
-        return J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
+        grad = J.T @ gW + P * jax.grad(load)(q)
+        return grad, J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
 
     return jax.jit(jax.vmap(hessian, in_axes=(0, 0, None, None, None)))
 
@@ -237,6 +242,7 @@ class _Base:
     degree: int
     E: tuple                      # (E0, E1, E2) per piece: (m, degree + 1) basis derivatives
     clamped: bool
+    G: np.ndarray                 # (P, m, 18): the density's gradient (first variation)
 
 
 @lru_cache(maxsize=32)
@@ -322,13 +328,14 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
     kernel = _hessian_kernel(sc.model, sc.material, float(sc.rhob1))
     pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))
     qa, da = np.concatenate(Q), np.concatenate(data)
-    H = np.asarray(kernel(qa, da, float(sc.material_parameter), float(sc.h), pressure))
-    if not np.all(np.isfinite(H)):
+    G, H = (np.asarray(x) for x in kernel(qa, da, float(sc.material_parameter), float(sc.h),
+                                           pressure))
+    if not (np.all(np.isfinite(H)) and np.all(np.isfinite(G))):
         raise ConvergenceError("the second variation is not finite at this equilibrium "
                                "(a quadrature point without a valid state)")
     return _Base(tuple(bounds), np.stack(S), np.stack(WQ), np.stack(AREA), np.stack(TH),
                  np.stack(R), np.stack(Zs), np.stack(LAM), H.reshape(P, m, 18, 18), ends,
-                 degree, tuple(Es), sc.edge == "clamped")
+                 degree, tuple(Es), sc.edge == "clamped", G.reshape(P, m, 18))
 
 
 # --- assembly -------------------------------------------------------------------------------
@@ -461,6 +468,63 @@ def _stiffness_parts(base: _Base, D) -> dict:
     return out
 
 
+@lru_cache(maxsize=None)
+def _kink_hessian():
+    """Hessian of the interface condition c = x_s^r . (x_s^l x x_o) / (|x_s^l| |x_s^r| r) in
+    (x_s^l, x_s^r, x_o): c = 0 says that the tangent plane does not fold at an interface
+    (its linear part is the rotation condition of :func:`_constraints`)."""
+    from .jaxsetup import jax
+    import jax.numpy as jnp
+
+    def c(v, scale):
+        return jnp_dot(v[3:6], jnp_cross(v[0:3], v[6:9])) / scale
+
+    return jax.jit(jax.hessian(c))
+
+
+def _interface_terms(base: _Base, D) -> list:
+    """Per interface (piece i | i + 1): (mu', H_c) with mu' the multiplier of its rotation
+    condition per unit angle, from the first variation of the n = 0 family (least squares on
+    all the conditions), and H_c the Hessian of the condition. Where the stretch jumps the
+    condition is not linear in the displacement: the second variation on the admissible set
+    (the Hessian of the Lagrangian) then has the term -mu' int c_2 domega, which the
+    quadratic form of the density alone misses (without it the eigenvalues fall without
+    bound as the degree grows)."""
+    P, m = base.s.shape
+    if P == 1:
+        return []
+    ndof = D.shape[-1]
+    B = (_local_map(0) @ D.reshape(9, -1)).reshape(18, P * m, ndof)
+    g = 2 * math.pi * np.einsum("qc,cqj->j", base.G.reshape(P * m, 18) *
+                                base.wq.reshape(-1)[:, None], B)
+    A = _constraints(base, 0)
+    mu = np.linalg.lstsq(A.T, g, rcond=None)[0]
+    out = []
+    for i in range(P - 1):
+        th, lam_l, r, _ = base.ends[(i, "b")]
+        lam_r = base.ends[(i + 1, "a")][1]
+        t = np.array([np.cos(th), 0.0, -np.sin(th)])
+        v = np.concatenate([lam_l * t, lam_r * t, [0.0, r, 0.0]])
+        Hc = np.asarray(_kink_hessian()(v, lam_l * lam_r * r))
+        row = 3 + 4 * i + 3                  # n = 0: three pole rows, then 3 + 1 per interface
+        out.append((i, mu[row] / (2 * math.pi), Hc))
+    return out
+
+
+def _interface_stiffness(base: _Base, terms, n: int) -> np.ndarray:
+    L = _local_map(n)
+    K = 0.0
+    for i, mu, Hc in terms:
+        V = np.array([_end_rows(base, i, "b", 1, c) for c in range(3)]
+                     + [_end_rows(base, i + 1, "a", 1, c) for c in range(3)]
+                     + list(L[6:9, 0:3] @ np.array([_end_rows(base, i, "b", 0, c)
+                                                     for c in range(3)])))
+        # + mu: the rotation row of _constraints is rho_l - rho_r, the negative of c's linear
+        # part, so its multiplier is -mu' of the Lagrangian E - mu' c
+        K = K + mu * V.T @ Hc @ V
+    return K * (2 * math.pi if n == 0 else math.pi)
+
+
 def _stiffness_direct(base: _Base, D, n: int) -> np.ndarray:
     P, m = base.s.shape
     ndof = D.shape[-1]
@@ -476,10 +540,12 @@ def _stiffness(parts: dict, n: int) -> np.ndarray:
 
 
 def _spectrum(base: _Base, D, parts, space: _Space, n: int, count: int,
-              M=None) -> HarmonicSpectrum:
+              M=None, terms=()) -> HarmonicSpectrum:
     from scipy.linalg import eigh
 
     K = _stiffness(parts, n) if parts is not None else _stiffness_direct(base, D, n)
+    if terms:
+        K = K + _interface_stiffness(base, terms, n)
     rigid = tuple((name, float(y @ K @ y / (y @ M @ y))) for name, y in space.rigid)
     Z = space.Z
     count = min(count, Z.shape[1])
@@ -557,6 +623,7 @@ def _modes(eq, base, ns, count, degree) -> Modes:
     D = _derivative_operators(base)
     # a few harmonics: each stiffness directly; many: once in powers of n (_stiffness_parts)
     parts = _stiffness_parts(base, D) if len(ns) > 3 else None
+    terms = _interface_terms(base, D)
     spaces = {}
     spectra = []
     for k in ns:
@@ -565,5 +632,5 @@ def _modes(eq, base, ns, count, degree) -> Modes:
             w = _mass_weights(base, k)
             spaces[cls] = _space(base, D, _mass(base, D, k), k, w)
         spectra.append(_spectrum(base, D, parts, spaces[cls], k, count, _mass(base, D, k)
-                                 if spaces[cls].rigid else None))
+                                 if spaces[cls].rigid else None, terms))
     return Modes(float(eq.p), eq.scene.parameter, tuple(spectra), degree)

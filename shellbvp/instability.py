@@ -49,8 +49,8 @@ class Instability:
     Attributes:
         kind: ``"fold"`` (the axisymmetric fold comes first), ``"bifurcation"`` (a
             non-axisymmetric mode, n >= 1, loses stability first) or ``"none"`` (neither
-            before the branch's end; ``p`` is then its last point and ``stop`` says why
-            it ended).
+            up to ``p``, the last point checked: the branch's end, or the last point whose
+            second variation could be evaluated; ``stop`` says which and why).
         n: the harmonic (0 for a fold; -1 for none).
         p: the parameter value (the scene's parameter, in its units unless a scene converts
             it, see ``parameter``); w: the observable there (R0).
@@ -148,9 +148,22 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
     degree = DEGREE if degree is None else degree
     name = branch.scene.parameter
     rows, prev, cutoff = [], None, n_scan
+    last_scanned = None
     for i in range(len(branch.points)):
         eq = branch.equilibrium(i)
-        low, cutoff = _scan_point(eq, degree, n_scan)
+        try:
+            low, cutoff = _scan_point(eq, degree, n_scan)
+        except ConvergenceError as exc:
+            if i == 0:
+                raise
+            # the branch's last points can lie at the edge of the admissible states (where
+            # it stopped): nothing is claimed beyond the last point checked
+            return Instability("none", -1, float(last_scanned.p), float(last_scanned.w),
+                               math.nan, name, None, cutoff, _cutoff_reason(cutoff),
+                               tuple(rows), f"{branch.stop}; the second variation could not "
+                               f"be evaluated from {name} = {eq.p:.6g} on ({exc}): stable "
+                               f"up to {name} = {last_scanned.p:.6g}, not checked beyond")
+        last_scanned = eq
         rows.append((eq.p, eq.w, low))
         neg = {n: mu for n, mu in low.items() if mu < 0}
         if neg and i == 0:
