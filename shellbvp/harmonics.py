@@ -149,14 +149,14 @@ class Modes:
 
 # --- the local density and its Hessian ------------------------------------------------------
 def _triple(u, v, w):
-    return jnp_dot(u, jnp_cross(v, w))
+    return _dot(u, _cross(v, w))
 
 
-def jnp_dot(a, b):
+def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def jnp_cross(a, b):
+def _cross(a, b):
     import jax.numpy as jnp
 
     return jnp.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
@@ -178,10 +178,10 @@ def _hessian_kernel(model: str, material: str, rhob1: float):
 
     def forms(q):
         xs, xo, xss, xso, xoo = (q[3 * i:3 * i + 3] for i in range(1, 6))
-        nrm = jnp_cross(xs, xo)
-        N = nrm / jnp.sqrt(jnp_dot(nrm, nrm))
-        return jnp.stack([jnp_dot(xs, xs), jnp_dot(xs, xo), jnp_dot(xo, xo),
-                          jnp_dot(xss, N), jnp_dot(xso, N), jnp_dot(xoo, N)])
+        nrm = _cross(xs, xo)
+        N = nrm / jnp.sqrt(_dot(nrm, nrm))
+        return jnp.stack([_dot(xs, xs), _dot(xs, xo), _dot(xo, xo),
+                          _dot(xss, N), _dot(xso, N), _dot(xoo, N)])
 
     def energy(ab, d, mat, h):
         g1, g2, kb1, kb2, sn = d[0], d[1], d[2], d[3], d[4]
@@ -477,7 +477,7 @@ def _kink_hessian():
     import jax.numpy as jnp
 
     def c(v, scale):
-        return jnp_dot(v[3:6], jnp_cross(v[0:3], v[6:9])) / scale
+        return _dot(v[3:6], _cross(v[0:3], v[6:9])) / scale
 
     return jax.jit(jax.hessian(c))
 

@@ -118,3 +118,24 @@ def test_a_stimulus_interface_converges_with_the_degree():
     lo, hi = (np.array([sp.eigenvalues for sp in H.modes(eq, [0, 2], degree=d,
                                                        count=2).spectra]) for d in (16, 32))
     assert np.max(np.abs(lo - hi) / np.abs(hi)) < 1e-5
+
+
+@pytest.mark.slow
+def test_clamped_cap_under_pressure_bifurcates_as_published_at_lambda_16():
+    """lambda_B = 16: published p/p0 = 0.790-0.792 with n = 11 (Huang 1964; Teng & Rotter
+    1989b); ours n = 10, whose neighbours 9 and 11 are within 0.07 of zero there."""
+    inst = pc.first_instability(16, 100.0, 1 / 3)
+    assert inst.kind == "bifurcation" and inst.n in (10, 11)
+    assert inst.p == pytest.approx(0.791, rel=0.01)
+
+
+@pytest.mark.slow
+def test_budding_bifurcation_converges_with_the_degree():
+    """The (1, 1) bud's first instability (n = 8, kbar ~ 56.6) at two perturbation degrees:
+    the same n, and kbar within the reported error estimate of each other."""
+    from shellbvp.problems import budding
+
+    a = budding.first_instability(1.0, 1.0)
+    b = budding.first_instability(1.0, 1.0, degree=32)
+    assert a.kind == b.kind == "bifurcation" and a.n == b.n == 8
+    assert abs(a.p - b.p) <= a.error_estimate + b.error_estimate
