@@ -106,6 +106,7 @@ def test_written_files_have_ordinary_permissions(tmp_path):
     assert mode("a.csv") == mode("b.csv") == mode("c.png") == 0o644
 
 
+@pytest.mark.slow
 def test_stability_command_prints_the_first_instability(capsys):
     """The default cap (T = 5.24) leaves axisymmetry before it snaps: n = 3 at kappa R0 =
     4.1758, below kappa_s = 4.2214 (tests/test_harmonics.py checks the pieces)."""
