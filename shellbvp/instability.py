@@ -231,7 +231,20 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         solved[p] = eq
         return eq
 
+    # refine first the harmonic whose crossing the end values put earliest; another one
+    # is refined only where its eigenvalue is already negative at that root (it crosses
+    # before it): one eigenvalue at a solved equilibrium instead of a root search
+    ends = low_f if fold is not None else low
+    def linear_crossing(n):
+        a, b = low_prev.get(n, math.nan), ends[n]
+        return a / (a - b) if math.isfinite(a) and a > 0 > b else 1.0
+
+    candidates = sorted(candidates, key=linear_crossing)
     for n in candidates:
+        if best is not None:
+            if modes(best[3], [n], count=1, degree=degree)[n].lowest >= 0:
+                continue
+            p_b = best[1]
         state = {"log": []}
 
         def mu(p, deg=degree):
