@@ -25,7 +25,7 @@ import numpy as np
 from . import checks
 from .models import MATERIAL_PARAMETER, MATERIALS, MODELS, material_parameter
 
-__all__ = ["Scene", "APEX", "EDGE", "uniform_curvature"]
+__all__ = ["Scene", "APEX", "EDGE", "uniform_curvature", "lam_max"]
 
 #: smallest opening angle: the rise 1 - cos Theta ~ Theta^2/2 keeps ~10 digits above it
 THETA_MIN = 1e-3
@@ -34,12 +34,32 @@ THETA_MIN = 1e-3
 H_MIN = 1e-6
 #: largest lambda*/mu*: lam = 1e8 is Poisson ratio 0.5 - 5e-9
 LAM_MAX = 1e8
+#: largest lam / h**2 admitted (Ciarlet-Geymonat): the forces of the lam term carry
+#: round-off ~ lam eps and enter the equations beside the moment scaled by 12 / h**2, so
+#: Newton stalls once lam eps 12 / h**2 is too large. Measured at tol 1e-8 (relaxed):
+#: Theta = pi/6 resolves lam / h**2 = 3e9 at h = 1e-3, 3e-3 and 1e-2 and stalls at 1e10
+#: for all three (lam = 1e4, 1e5, 1e6); Theta = pi/3, h = 0.1 resolves 1e9 and fails at
+#: 2.5e9 (the inner (lam1, k1) Newton at the fold); Theta = 0.05, h = 1e-4 resolves 3e10 and
+#: stalls at 1e11. The fence is the largest value resolved anywhere: beyond it nothing
+#: measured resolves; below it a cap that does not ends in a ConvergenceError that names
+#: the same remedy (driver.follow), rather than a refused case that would have worked.
+LAM_OVER_H2_MAX = 3e10
 #: what each material uses (for the error of a parameter it does not)
 USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parameter, and "
         "J = 1 fixes the through-thickness stretch, so there is no model choice",
         "koiter": "it uses nu; it is a reference energy, not a reduction with models"}
 APEX = ("held", "free")   # held: z(0) = 0 (vertical point force allowed); free: F_z = 0
 EDGE = ("free", "clamped")
+
+
+def lam_max(h: float) -> float:
+    """The largest lam = lambda*/mu* a Ciarlet-Geymonat scene of thickness h = h0/R0 admits:
+    ``min(LAM_MAX, LAM_OVER_H2_MAX h**2)`` (3e6 at h = 0.01, 3e4 at h = 1e-3), where the
+    round-off of the lam term's forces, ~ lam eps 12 / h**2 relative to the moment, leaves
+    no cap measured resolvable (see ``LAM_OVER_H2_MAX``: from 1/30 of it some caps stall,
+    with a ConvergenceError). Beyond it a nearly incompressible shell is
+    ``material='nh'``."""
+    return min(LAM_MAX, LAM_OVER_H2_MAX * h * h)
 
 
 def uniform_curvature(piece, s, kappa):
@@ -66,8 +86,9 @@ class Scene:
     Attributes:
         theta: opening half-angle Theta in (0, pi).
         h: thickness h0/R0 in (0, 1).
-        lam: lambda*/mu* (> 0; Ciarlet-Geymonat only: other materials refuse a value other
-            than the default 1.0).
+        lam: lambda*/mu* in (0, :func:`lam_max` (h)] (Ciarlet-Geymonat only: other
+            materials refuse a value other than the default 1.0); at most 1e8 and at most
+            3e10 h^2, beyond which the lam term's round-off swamps the bending equations.
         model, material: as in :func:`shellbvp.energy_density`; ``model`` applies to
             ``material="cg"`` only (other materials refuse ``"plane_strain"``).
         rhob1: through-thickness stimulus (> 0; rhob2 = rhob3 = 0).
@@ -142,6 +163,15 @@ class Scene:
                                        " (lambda*/mu*; beyond, the bulk term swamps the "
                                        "shear one in double precision: use material='nh' for "
                                        "an incompressible shell)")
+            resolvable = lam_max(self.h)
+            if self.lam > resolvable:
+                raise ValueError(
+                    f"lam = {self.lam:g} is beyond what double precision resolves at "
+                    f"h = {self.h:g}: lam must lie in (0, {resolvable:.3g}] there "
+                    f"({LAM_OVER_H2_MAX:g} h^2: the forces of the lam term carry round-off "
+                    f"~ lam eps and enter beside the moment scaled by 12/h^2). For a nearly "
+                    f"incompressible shell use material='nh', the limit lam -> infinity "
+                    f"(kappa_s of a cap approaches it like 1/lam)")
         if self.material == "koiter":
             checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
         checks.check_positive("rhob1", self.rhob1)

@@ -25,9 +25,31 @@ def test_relaxed_kappa_s_tends_to_the_incompressible_limit():
 
 def test_round_off_beyond_double_precision_is_a_clear_error():
     """Relaxed CG at lam = 1e6 (h = 0.01): the forces carry round-off ~ lam eps 12/h^2 and
-    Newton stalls at ~5e-7; the error says so and names the incompressible material."""
+    Newton stalls at ~5e-7; the error says so and names the incompressible material. Beyond
+    lam / h^2 = 3e10, where no cap measured resolves, the scene refuses lam at once with the
+    range at its h (3e6 at h = 0.01, 3e4 at h = 1e-3)."""
     with pytest.raises(ConvergenceError, match="material='nh'.*round-off"):
         ce.snap_curvature(THETA, 0.01, 1e6)
+    with pytest.raises(ValueError, match=r"lam must lie in \(0, 3e\+06\] there.*material='nh'"):
+        ce.snap_curvature(THETA, 0.01, 1e7)
+    with pytest.raises(ValueError, match=r"\(0, 3e\+04\]"):
+        ce.snap_curvature(THETA, 1e-3, 1e5)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("h", [1e-3, 1e-2])
+def test_stiff_material_resolved_everywhere_measured_is_honest(h):
+    """lam = 1e9 h^2 (1e3 at h = 1e-3, 1e5 at h = 1e-2), where every cap measured resolves:
+    kappa_s at tol 1e-8 agrees with tol 1e-9 within its estimate, and lies between the
+    compressible value at lam / 10 and the incompressible limit (neo-Hookean, an
+    independent material model)."""
+    lam = 1e9 * h * h
+    a = ce.snap_curvature(THETA, h, lam, tol=1e-8)
+    b = ce.snap_curvature(THETA, h, lam, tol=1e-9)
+    assert abs(a.kappa_s - b.kappa_s) <= a.error_estimate
+    nh = ce.snap_curvature(THETA, h, material="nh", tol=1e-8).kappa_s
+    softer = ce.snap_curvature(THETA, h, lam / 10, tol=1e-8).kappa_s
+    assert min(nh, softer) < a.kappa_s < max(nh, softer)
 
 
 @pytest.mark.slow
