@@ -101,6 +101,13 @@ class Equilibrium:
                 f"+- {self.error_estimate:.1e}, energy={self.energy:.6g}, "
                 f"{_resolution(self.stats)})")
 
+    def plot(self, ax=None, *, strains: bool = True, mirror: bool = True):
+        """The meridian, stimulated part marked, and the strains on a second axes
+        (:func:`shellbvp.plotting.plot_equilibrium`); returns the matplotlib axes."""
+        from .plotting import plot_equilibrium
+
+        return plot_equilibrium(self, ax, strains=strains, mirror=mirror)
+
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
         BVP's frame, apex at z = 0 for the reference cap): a guess for another solve."""
@@ -298,6 +305,13 @@ class Branch:
             raise ValueError(f"i must index the branch's {len(self.points)} points, got {i!r}")
         pt = self.points[i]
         return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats)
+
+    def plot(self, ax=None, *, instability=None, label: str | None = None):
+        """The parameter against w, folds marked, and an instability of the branch if given
+        (:func:`shellbvp.plotting.plot_branch`); returns the matplotlib axes."""
+        from .plotting import plot_branch
+
+        return plot_branch(self, ax, instability=instability, label=label)
 
     def rows(self):
         """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order."""
