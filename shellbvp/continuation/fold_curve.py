@@ -38,7 +38,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..results import Fold
 from ..methods.base import first_rung
-from .folds import climb
+from .folds import climb, refuse_below_round_off
 from .newton import (PREDICTED_FRACTION, Stopping, bordered_lu, is_sparse, jacobian_error,
                      relative_step)
 from .options import ContinuationOptions
@@ -164,6 +164,7 @@ def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOpti
     finer fold is returned. ConvergenceError if the round-off exceeds ``fold_tol`` or after
     ``options.max_refinements`` rungs."""
     t0 = time.perf_counter() if t0 is None else t0
+    refuse_below_round_off(system, p, options.fold_tol)
     first = first_rung(system, options.fold_tol, exact=True)
     current = solve_fold(first, system.transfer(U, p, first), p, index=index)
 

@@ -23,7 +23,7 @@ from .newton import bordered_lu, newton, tangent
 from .options import ContinuationOptions
 
 __all__ = ["locate_fold", "polish_fold", "refine_fold", "ladder", "climb", "bracket_estimate",
-           "fold_sensitivity"]
+           "fold_sensitivity", "refuse_below_round_off"]
 
 #: Newton tolerance and monitor tolerance of a fold that is returned to the user
 FOLD_NEWTON_TOL = 1e-10
@@ -319,6 +319,7 @@ def ladder(system, U, p, monitor, curvature=None, *,
     round-off exceeds ``fold_tol``, or after ``options.max_refinements`` rungs.
     """
     t0 = time.perf_counter() if t0 is None else t0
+    refuse_below_round_off(system, p, options.fold_tol)
     first = first_rung(system, options.fold_tol)
     # the monitor of the fold to fold_tol / 10 (at least FOLD_MONITOR_TOL): p is then good
     # to ~c (fold_tol / 10)^2, and w to the accuracy asked of p
@@ -338,6 +339,28 @@ def ladder(system, U, p, monitor, curvature=None, *,
     # model gave 5.96e-9 for an error of 6.06e-9)
     return climb(system, first, current, advance, options=options, index=index, t0=t0,
                  location_weight=2.0)
+
+
+def refuse_below_round_off(system, p, fold_tol) -> None:
+    """ConvergenceError where the problem's own round-off scatter at p (a seed of the fold,
+    within ~1e-5 of it) exceeds fold_tol: a floor no rung of a ladder goes below, so the
+    tolerance is refused before the ladder climbs (a thin shell at tol 1e-12 compiled and
+    solved degree after degree for minutes, then was refused at the end)."""
+    floor = _scatter(system, p)
+    if floor > fold_tol:
+        raise _below_round_off(p, floor, fold_tol)
+
+
+def _below_round_off(p, noise, fold_tol) -> ConvergenceError:
+    """The error of a fold near p that round-off leaves uncertain by ``noise`` > fold_tol,
+    with the tolerance to ask for: noise rounded up to one digit (rounded to the nearest,
+    5.007e-12 became 5e-12, itself refused)."""
+    e = 10.0 ** math.floor(math.log10(noise))
+    allowed = math.ceil(noise / e * (1 - 1e-12)) * e
+    return ConvergenceError(
+        f"fold near {p:.10g}: round-off in the discrete equations leaves it uncertain by "
+        f"{noise:.1e} > fold_tol = {fold_tol:g} (a thin or stiff shell); ask for a "
+        f"tolerance >= {allowed:.0e}", round_off=True)
 
 
 def climb(coarse, first, current, advance, *, options: ContinuationOptions, index: int,
@@ -370,14 +393,7 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
             noise = max(current.stats["round_off"], fine.stats["round_off"],
                         _scatter(fine.system, fine.p))
             if noise > options.fold_tol:
-                # the tolerance to suggest: noise rounded up to one digit (rounded to the
-                # nearest, 5.007e-12 became 5e-12, itself refused)
-                e = 10.0 ** math.floor(math.log10(noise))
-                allowed = math.ceil(noise / e * (1 - 1e-12)) * e
-                raise ConvergenceError(
-                    f"fold near {fine.p:.10g}: round-off in the discrete equations leaves it "
-                    f"uncertain by {noise:.1e} > fold_tol = {options.fold_tol:g} (a thin "
-                    f"or stiff shell); ask for a tolerance >= {allowed:.0e}", round_off=True)
+                raise _below_round_off(fine.p, noise, options.fold_tol)
             estimate = max(change, noise) + location_weight * fine.stats["location"]
             return fine.with_estimate(
                 estimate, index=index,
