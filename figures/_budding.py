@@ -8,7 +8,6 @@ meridional, 2 azimuthal): zero where the shell takes its target metric.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -63,27 +62,6 @@ HEADER = ["eta_a", "eta_b", "kbar_requested", "kbar", "reached", "s_over_R0", "r
           "z_over_R0", "eps11", "eps22", "lam1", "lam2", "k1_R0", "k2_R0"]
 
 
-def draw_shape(ax, eq, label, color):
-    """The meridian and its mirror image, z relative to the clamped edge; the patch thick."""
-    z = eq.z - eq.z[-1]
-    patch = eq.s <= bd.PATCH
-    for sign in (1, -1):
-        ax.plot(sign * eq.r, z, "-", color=color, lw=1.0, label=label if sign == 1 else None)
-        ax.plot(sign * eq.r[patch], z[patch], "-", color=color, lw=2.6)
-    ax.set_aspect("equal")
-    ax.set_xlabel(r"$r / R_0$")
-    ax.set_ylabel(r"$z / R_0$ (from the edge)")
-
-
-def draw_strains(ax, eq, color, label=None):
-    ax.plot(eq.s, eq.eps11, "-", color=color, label=label)
-    ax.plot(eq.s, eq.eps22, "--", color=color)
-    ax.axvspan(0, bd.PATCH, color="0.9", zorder=0)
-    ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel(r"$s / R_0$ (patch shaded)")
-    ax.set_ylabel(r"$\epsilon_{11}$ (solid), $\epsilon_{22}$ (dashed)")
-
-
 def method_note(b) -> str:
     """The method a branch was followed with and the gammas convention, for captions."""
     return f"{b.stats['method']} method, paper's gammas (0.63/1.26)"
@@ -112,10 +90,9 @@ def panels(cases, stem, argv=None, doc=""):
         kbar = PAPER_KBAR[(ea, eb)]
         b, ((_, eq, reached),) = case(ea, eb, [kbar], quick=a.quick)
         rows += rows_of(ea, eb, kbar, eq, reached)
-        draw_shape(axes[0, k], eq, None, f"C{k}")
+        eq.plot(ax=(axes[0, k], axes[1, k]), origin="edge", color=f"C{k}")
         axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1])
                              + f"\n{method_note(b)}", fontsize=8)
-        draw_strains(axes[1, k], eq, f"C{k}")
         axes[1, k].set_title(f"({'def'[k]}) strains", fontsize=9)
     write_csv(a.out / f"{stem}.csv", HEADER, rows)
     finish(fig, a.out, stem)

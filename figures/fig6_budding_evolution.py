@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 
-from _budding import HEADER, case, draw_shape, method_note, rows_of
+from _budding import HEADER, case, method_note, rows_of
 from _common import finish, parser, pyplot, write_csv
 
 KBARS = (64.0, 160.0, 300.0)
@@ -36,7 +36,7 @@ def main(argv=None):
         rows += rows_of(0.0, 0.5, kbar, eq, reached)
         label = (rf"$\bar\kappa$ = {kbar:g}" if reached else
                  rf"$\bar\kappa$ = {kbar:g}: branch ends at {eq.p:.1f} (last valid shape)")
-        draw_shape(ax, eq, label, f"C{k}")
+        eq.plot(ax=ax, strains=False, origin="edge", label=label, color=f"C{k}")
     ax.legend(fontsize=7)
     ax.set_title(title + f"\n{method_note(b)}", fontsize=9)
     write_csv(a.out / "fig6_budding_evolution.csv", HEADER, rows)

@@ -42,15 +42,22 @@ def _pyplot():
     return plt
 
 
-def plot_equilibrium(eq, ax=None, *, strains: bool = True, mirror: bool = True):
+def plot_equilibrium(eq, ax=None, *, strains: bool = True, mirror: bool = True,
+                     origin: str = "apex", label: str | None = None, color=None):
     """The meridian (r, z) of ``eq``, the stimulated part drawn thick, and with ``strains``
     the mid-surface strains eps11, eps22 against the arclength of the reference meridian
     (s, R0) on a second axes, the stimulated part shaded.
 
-    ``ax``: the axes of the shape, or a pair (shape, strains); new ones where None.
+    ``ax``: the axes of the shape, or a pair (shape, strains); new ones where None (several
+    equilibria may share axes: the stimulated part is named in the legend once).
     ``mirror``: draw the meridian's reflection r -> -r too (the axisymmetric section).
+    ``origin``: z measured from the ``"apex"`` (the equilibrium's own convention) or from
+    the ``"edge"`` (natural for a clamped cap, whose edge does not move).
+    ``label``, ``color``: of the meridian (default: the parameter's value; the next color).
     Returns the shape's axes, or the pair (shape, strains) with ``strains``.
     """
+    if origin not in ("apex", "edge"):
+        raise ValueError(f"origin must be 'apex' or 'edge', got {origin!r}")
     if ax is None:
         plt = _pyplot()
         if strains:
@@ -60,26 +67,28 @@ def plot_equilibrium(eq, ax=None, *, strains: bool = True, mirror: bool = True):
     shape_ax, strain_ax = (ax[0], ax[1]) if strains else (ax, None)
     on = stimulated(eq)
     sc = eq.scene
-    label = f"{sc.parameter} = {eq.p:.6g}"
+    label = f"{sc.parameter} = {eq.p:.6g}" if label is None else label
+    z = eq.z - eq.z[-1] if origin == "edge" else eq.z
+    named = "stimulated" in [ln.get_label() for ln in shape_ax.lines]
     for sign in ((1.0, -1.0) if mirror else (1.0,)):
-        line, = shape_ax.plot(sign * eq.r, eq.z, "-", lw=1.2,
-                              label=label if sign > 0 else None,
-                              color=None if sign > 0 else line.get_color())
+        line, = shape_ax.plot(sign * eq.r, z, "-", lw=1.2, color=color,
+                              label=label if sign > 0 else None)
+        color = line.get_color()          # the mirror image and the marks in the same color
         if on.any():
-            shape_ax.plot(np.where(on, sign * eq.r, np.nan), np.where(on, eq.z, np.nan),
-                          "-", lw=3.5, alpha=0.45, color=line.get_color(),
-                          label="stimulated" if sign > 0 else None)
+            shape_ax.plot(np.where(on, sign * eq.r, np.nan), np.where(on, z, np.nan),
+                          "-", lw=3.5, alpha=0.45, color=color,
+                          label="stimulated" if sign > 0 and not named else None)
     shape_ax.set_aspect("equal", adjustable="datalim")
     shape_ax.set_xlabel("r / R0")
-    shape_ax.set_ylabel("z / R0 (from the apex)")
+    shape_ax.set_ylabel(f"z / R0 (from the {origin})")
     shape_ax.legend(fontsize=7)
     if strain_ax is None:
         return shape_ax
-    strain_ax.plot(eq.s, eq.eps11, "-", label="eps11 (meridional)")
-    strain_ax.plot(eq.s, eq.eps22, "--", label="eps22 (hoop)")
+    strain_ax.plot(eq.s, eq.eps11, "-", color=color, label="eps11 (meridional)")
+    strain_ax.plot(eq.s, eq.eps22, "--", color=color, label="eps22 (hoop)")
     if on.any():
         lo, hi = strain_ax.get_ylim()
-        strain_ax.fill_between(eq.s, lo, hi, where=on, color="0.85", zorder=0,
+        strain_ax.fill_between(eq.s, lo, hi, where=on, color="0.9", zorder=0,
                                label="stimulated")
         strain_ax.set_ylim(lo, hi)
     strain_ax.set_xlabel("s (reference arclength / R0)")

@@ -101,12 +101,14 @@ class Equilibrium:
                 f"+- {self.error_estimate:.1e}, energy={self.energy:.6g}, "
                 f"{_resolution(self.stats)})")
 
-    def plot(self, ax=None, *, strains: bool = True, mirror: bool = True):
+    def plot(self, ax=None, *, strains: bool = True, mirror: bool = True,
+             origin: str = "apex", label: str | None = None, color=None):
         """The meridian, stimulated part marked, and the strains on a second axes
         (:func:`shellbvp.plotting.plot_equilibrium`); returns the matplotlib axes."""
         from .plotting import plot_equilibrium
 
-        return plot_equilibrium(self, ax, strains=strains, mirror=mirror)
+        return plot_equilibrium(self, ax, strains=strains, mirror=mirror, origin=origin,
+                                label=label, color=color)
 
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the

@@ -27,3 +27,14 @@ def random_states(seed, n=6, *, stretch=(0.8, 1.25), curv=2.0):
 @pytest.fixture
 def states():
     return random_states(2024)
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The outcomes of the property-based cases that ran (tests/test_property_solvers.py)."""
+    module = next((m for name, m in list(sys.modules.items())
+                   if name.endswith("test_property_solvers")), None)
+    outcomes = getattr(module, "OUTCOMES", None)
+    if outcomes:
+        terminalreporter.section("property-based cases")
+        for outcome, count in sorted(outcomes.items()):
+            terminalreporter.write_line(f"{count:5d}  {outcome}")

@@ -1,5 +1,5 @@
 """Exact derivatives of kappa_s (implicit differentiation of the fold, ``gradient=True``)
-against central differences of independent kappa_s computations, and the README's
+against central differences of independent kappa_s computations, and the docs'
 inverse-design example."""
 
 import math
@@ -50,10 +50,10 @@ def test_gradient_is_refused_for_other_methods():
         ce.snap_curvature(THETA, H0, gradient=True, method="collocation")
 
 
-def test_readme_design_example_hits_its_target():
-    """The README's design(): Newton with the exact gradient finds the opening angle whose
+def test_design_example_of_the_docs_hits_its_target():
+    """The design() of the docs (theory page): Newton with the exact gradient finds the opening angle whose
     kappa_s is the target; checked by an independent kappa_s at that angle."""
-    text = (Path(__file__).parents[1] / "README.md").read_text()
+    text = "\n".join(f.read_text() for f in sorted((Path(__file__).parents[1] / "docs").glob("*.md")))
     block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "def design(" in b)
     namespace = {}
     exec(block.split("\ntheta = design(")[0], namespace)

@@ -218,13 +218,13 @@ def test_bad_input_is_named():
         shellbvp.Scene(theta=0.3, h=0.01, pressure=2.0)
 
 
-def test_readme_example_runs(tmp_path, monkeypatch):
-    """The README's pressure example: its p_cr/p0 within the published range at
+def test_pressure_example_of_the_docs_runs(tmp_path, monkeypatch):
+    """The pressure example of the docs (validation page): its p_cr/p0 within the published range at
     lambda_B = 6 (0.972-0.995), and the branch CSV with its fold row."""
     import re
     from pathlib import Path
 
-    text = (Path(__file__).parents[1] / "README.md").read_text()
+    text = "\n".join(f.read_text() for f in sorted((Path(__file__).parents[1] / "docs").glob("*.md")))
     block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S)
                  if "critical_pressure(" in b)
     monkeypatch.chdir(tmp_path)
