@@ -1,29 +1,32 @@
-"""Benchmark: wall time per snap curvature kappa_s against its accuracy, and start-up cost.
+"""Benchmark: one snap curvature kappa_s beside AUTO-07p, timed in the same run, and start-up.
 
 Cap: Theta = pi/6, h0/R0 = 0.01, lam = 1, Ciarlet-Geymonat, relaxed and plane strain.
-For every model and tolerance it reports the steady-state wall time of one
-``snap_curvature(..., tol=tol)`` (median, min and max of repeats in one process after a first
-call; the rows run in turn, one call each per round, so that the machine's slow spells fall
-on all of them alike), the error of kappa_s against a reference (tol 1e-12 on degrees from
-56 up), next to the error estimate the call returns, the final Chebyshev degree and the
-number of Newton evaluations. Start-up: the wall time of the whole command ``shellbvp snap --model M`` in a
-fresh process, with an empty cache folder (``cold``: symbolic derivation, tracing, XLA
-compilation) and again with that folder filled (``warm``).
+The peer is AUTO-07p on the same equations (the executables of this cap model in
+the folder ``$SHELLBVP_AUTO07P``, default ``shared/peers/auto07p`` beside the checkout, with
+its runner ``run_auto.py`` and ``bin/``: analytic
+Jacobians, NCOL = 4, pseudo-arclength from kappa = 0 to the first limit point). For every
+model and accuracy class tol in {1e-6, 1e-8, 1e-10, 1e-12}:
 
-The peer is AUTO-07p on the same equations (analytic Jacobians, NCOL = 4, 22 continuation
-steps), measured on this machine type (issue #9): relaxed 32 / 58 / 111 ms at errors 7e-9 /
-8e-11 / 1e-13 (NTST 10 / 20 / 40); plane strain 26 / 45 / 87 ms at the same NTST (errors not
-recorded; drawn at the accuracy class 1e-8 / 1e-10 / 1e-12 they were measured for).
+* shellbvp: ``snap_curvature(..., tol=tol)`` in steady state (after one call to compile);
+* AUTO-07p: the whole process (start, read its constants, continue, write its files; AUTO
+  has no warm-up) at the smallest NTST of ``NTST_CANDIDATES`` whose error is at most tol
+  (NTST 8 / 10 / 20 / 40 relaxed here), errors against the same reference;
 
-Also the Fig. 3 set (relaxed, h0/R0 = 0.01, lam in {0.01, 0.1, 1, 10}, T = 2:0.25:10, 132
-caps, tol 1e-10) in steady state: one ``snap_curve`` sweep per lam (caps found along the fold
-curve) against the same caps each continued from kappa = 0 (AUTO-07p: 13-16 s at NTST = 40).
+alternating, one call of each per round over all rows, so that the machine's slow spells
+fall on both; the medians' ratio is the figure of merit (absolute times differ by 1.5x
+between machines of one kind). The reference is shellbvp at tol 1e-12 on degrees from 56
+up, which no timed row uses; AUTO at NTST 40 agrees with it to ~2e-13.
 
-Pinned to one core (sched_setaffinity, single-threaded BLAS and XLA), as AUTO was.
-Writes bench_snap.csv (steady state), bench_snap_startup.csv, bench_snap_fig3.csv and
-bench_snap.png.
+Start-up: the whole command ``shellbvp snap --model M`` in a fresh process with an empty
+cache folder (cold: symbolic derivation, tracing, XLA compilation) and again with it filled
+(warm), and the time of each phase in a cold and a warm process.
 
-    python figures/bench_snap.py [--quick] [--repeats 15] [--no-startup]
+Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threaded BLAS,
+XLA and OpenMP). Writes bench_snap.csv, bench_snap_startup.csv, bench_snap_fig3.csv and
+bench_snap.png. Where AUTO-07p or its runtime libraries are missing, says how to install
+them and times shellbvp alone.
+
+    python figures/bench_snap.py [--quick] [--repeats 7] [--no-startup] [--no-fig3]
 """
 
 from __future__ import annotations
@@ -36,63 +39,161 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")
 os.environ.setdefault("XLA_FLAGS", "--xla_cpu_multi_thread_eigen=false "
                                    "intra_op_parallelism_threads=1")
 try:
-    os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+    os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})
 except (AttributeError, OSError):   # not Linux: run unpinned, say so below
     pass
 
+import importlib.util  # noqa: E402
 import math  # noqa: E402
 import shutil  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from _common import finish, parser, pyplot, write_csv  # noqa: E402
+from _common import HERE, finish, parser, pyplot, write_csv  # noqa: E402
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 MODELS = ("relaxed", "plane_strain")
-TOLS = (1e-6, 1e-8, 1e-9, 1e-10, 1e-12)
+TOLS = (1e-6, 1e-8, 1e-10, 1e-12)
 REFERENCE_TOL = 1e-12
 #: the reference fold is located on degrees from 56 up, which none of the timed rows uses
-#: (tol 1e-12 is the finest the round-off floor of this cap allows, ~6e-13)
 REFERENCE_NODES = 56
-#: AUTO-07p on this machine type (issue #9): (ms, error) per model; plane strain errors were
-#: not recorded, so its points stand at the accuracy class they were measured for
-AUTO = {"relaxed": [(32, 7e-9), (58, 8e-11), (111, 1e-13)],
-        "plane_strain": [(26, 1e-8), (45, 1e-10), (87, 1e-12)]}
+#: AUTO-07p's meshes tried per accuracy class (the smallest whose error meets tol is timed;
+#: its error is not monotone in NTST: the adaptive mesh moves)
+NTST_CANDIDATES = (6, 7, 8, 9, 10, 12, 14, 16, 20, 24, 30, 40)
+#: the goal of the speed issue: shellbvp's median at most this fraction of AUTO's
+GOAL = 0.5
+INSTALL = ("AUTO-07p's runtime libraries: apt-get install -y libgfortran5 libgomp1 "
+           "(Debian/Ubuntu); the executables: set SHELLBVP_AUTO07P to the folder holding "
+           "run_auto.py and bin/")
 
 
-def steady(cases, repeats):
-    """{(model, tol): (times (repeats,), last result)}, in steady state. The cases are run
-    in turn, one call each per round (after one call each to compile and warm the caches),
-    so that a slow spell of the machine falls on every row alike, not on one."""
+def auto_runner():
+    """The AUTO-07p runner module, or (None, why) where it or its libraries are missing."""
+    folder = Path(os.environ.get("SHELLBVP_AUTO07P",
+                                 HERE.parent.parent / "shared" / "peers" / "auto07p"))
+    path = folder / "run_auto.py"
+    if not path.exists():
+        return None, f"no AUTO-07p runner at {path}"
+    spec = importlib.util.spec_from_file_location("run_auto", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    probe = mod.run("relaxed", theta=THETA, lam=LAM, h=H0, ntst=10)
+    if not probe.get("ok"):
+        return None, f"AUTO-07p did not run ({probe.get('tail', '')[-200:].strip()!r})"
+    return mod, ""
+
+
+def auto_meshes(auto, refs):
+    """{(model, tol): (ntst, error)}: the smallest NTST of NTST_CANDIDATES whose kappa_s is
+    within tol of the reference, per model and accuracy class."""
+    errors = {}
+    for model in MODELS:
+        for ntst in NTST_CANDIDATES:
+            r = auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=ntst)
+            errors[model, ntst] = abs(r["kappa_s"] - refs[model].kappa_s) if r["ok"] \
+                else math.inf
+    chosen = {}
+    for model in MODELS:
+        for tol in TOLS:
+            ntst = next((n for n in NTST_CANDIDATES if errors[model, n] <= tol), None)
+            chosen[model, tol] = (ntst, errors.get((model, ntst), math.nan))
+    return chosen
+
+
+def side_by_side(rows, repeats, auto, meshes):
+    """{(model, tol): (shellbvp times, AUTO times, last result)}: one call of each per round,
+    shellbvp and AUTO alternating, after one shellbvp call per row to compile."""
     from shellbvp.problems import cap_eversion as ce
 
-    for model, tol in cases:
+    for model, tol in rows:
         ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-    times = {case: [] for case in cases}
+    ours = {row: [] for row in rows}
+    peer = {row: [] for row in rows}
     last = {}
     for _ in range(repeats):
-        for model, tol in cases:
+        for model, tol in rows:
             t = time.perf_counter()
             last[model, tol] = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-            times[model, tol].append(time.perf_counter() - t)
-    return {case: (np.array(times[case]), last[case]) for case in cases}
+            ours[model, tol].append(time.perf_counter() - t)
+            ntst = meshes.get((model, tol), (None,))[0] if auto else None
+            if ntst is not None:
+                r = auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=ntst)
+                peer[model, tol].append(r["wall_s"] if r["ok"] else math.nan)
+    return {row: (np.array(ours[row]), np.array(peer[row]), last[row]) for row in rows}
+
+
+def _command():
+    exe = shutil.which("shellbvp")
+    return [exe] if exe else [sys.executable, "-m", "shellbvp.cli"]
 
 
 def startup(model, cache_dir):
     """Wall time (s) of the whole command in a fresh process, and its kappa_s line."""
     env = dict(os.environ, SHELLBVP_CACHE_DIR=str(cache_dir))
-    exe = shutil.which("shellbvp")
-    cmd = [exe] if exe else [sys.executable, "-m", "shellbvp.cli"]
     t = time.perf_counter()
-    out = subprocess.run(cmd + ["snap", "--model", model], env=env, check=True,
+    out = subprocess.run(_command() + ["snap", "--model", model], env=env, check=True,
                          capture_output=True, text=True)
     wall = time.perf_counter() - t
     line = next((x for x in out.stdout.splitlines() if x.startswith("kappa_s")), "")
     return wall, line
+
+
+#: the child process of :func:`phases`: times each phase with wall clocks around the
+#: functions that hold it (the symbolic work: derivation and code generation, or the
+#: generated source read back; tracing: jax.export, or the exported program read back;
+#: lowering and XLA compilation, or the compiled program loaded from JAX's cache)
+PHASE_SCRIPT = """
+import sys, time
+t = time.perf_counter()
+import jax
+spent = {"import jax": time.perf_counter() - t}
+t = time.perf_counter()
+import shellbvp, shellbvp.cli, shellbvp.compiled as C, shellbvp.packed as P
+spent["import shellbvp"] = time.perf_counter() - t
+
+def timed(owner, name, phase):
+    f = getattr(owner, name)
+    def wrapper(*a, **k):
+        t = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            spent[phase] = spent.get(phase, 0.0) + time.perf_counter() - t
+    setattr(owner, name, wrapper)
+
+timed(C, "_generated", "symbolic derivation and generated code")
+timed(P.Packed, "_exported", "tracing (jax.export)")
+timed(P.Packed, "_program", "lowering + XLA compilation (or cache load)")
+t = time.perf_counter()
+try:
+    shellbvp.cli.main(["snap", "--model", sys.argv[1]])
+except SystemExit:
+    pass
+spent["the whole snap command"] = time.perf_counter() - t
+for k, v in spent.items():
+    print("PHASE", v, k)
+"""
+
+
+def phases(model, cache_dir):
+    """{phase: seconds} of ``shellbvp snap`` in a fresh process (:data:`PHASE_SCRIPT`; the
+    program phases are nested in the command's), and the process' wall time."""
+    env = dict(os.environ, SHELLBVP_CACHE_DIR=str(cache_dir))
+    t = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", PHASE_SCRIPT, model], env=env, check=True,
+                         capture_output=True, text=True).stdout
+    total = time.perf_counter() - t
+    shares = {}
+    for line in out.splitlines():
+        if line.startswith("PHASE"):
+            _, seconds, name = line.split(" ", 2)
+            shares[name] = float(seconds)
+    return shares, total
 
 
 def fig3_set(tol=1e-10, quick=False):
@@ -125,73 +226,101 @@ def fig3_set(tol=1e-10, quick=False):
 
 def main(argv=None):
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--repeats", type=int, default=15, help="steady-state repetitions (default 15)")
+    p.add_argument("--repeats", type=int, default=7, help="rounds per row (default 7)")
     p.add_argument("--no-startup", action="store_true", help="skip the fresh-process timings")
+    p.add_argument("--no-fig3", action="store_true", help="skip the Fig. 3 set")
     a = p.parse_args(argv)
     repeats = 3 if a.quick else a.repeats
-    tols = (1e-6, 1e-9, 1e-12) if a.quick else TOLS
+    tols = (1e-6, 1e-10) if a.quick else TOLS
+    from shellbvp import Chebyshev
     from shellbvp.problems import cap_eversion as ce
 
     pinned = len(os.sched_getaffinity(0)) == 1 if hasattr(os, "sched_getaffinity") else False
-    print(f"one core pinned: {pinned}; median of {repeats} repeats per entry")
-    from shellbvp import Chebyshev
-
+    print(f"one core pinned: {pinned}; median of {repeats} rounds per row")
     refs = {}
     for model in MODELS:
         refs[model] = ref = ce.snap_curvature(THETA, H0, LAM, model=model, tol=REFERENCE_TOL,
                                               method=Chebyshev(nodes=REFERENCE_NODES))
-        print(f"{model}: reference kappa_s R0 = {ref.kappa_s!r} (tol {REFERENCE_TOL:g}, "
-              f"estimate {ref.error_estimate:.1e}, N = "
-              f"{ref.stats['fold']['resolution']['nodes']})")
-    timed = steady([(model, tol) for model in MODELS for tol in tols], repeats)
+        print(f"{model}: reference kappa_s R0 = {ref.kappa_s!r} (estimate "
+              f"{ref.error_estimate:.1e}, N = {ref.stats['fold']['resolution']['nodes']})")
+    auto, why = auto_runner()
+    if auto is None:
+        print(f"AUTO-07p skipped: {why}. {INSTALL}")
+        meshes = {}
+    else:
+        meshes = auto_meshes(auto, refs)
+    timed = side_by_side([(m, t) for m in MODELS for t in tols], repeats, auto, meshes)
     rows = []
     for model in MODELS:
-        ref = refs[model]
         print(model)
         for tol in tols:
-            times, r = timed[model, tol]
-            err = abs(r.kappa_s - ref.kappa_s)
-            rows.append([model, tol, 1e3 * float(np.median(times)), 1e3 * float(times.min()),
-                         1e3 * float(times.max()), repeats, r.kappa_s, r.error_estimate, err,
-                         r.stats["fold"]["resolution"]["nodes"], r.stats["evaluations"]])
-            print(f"  tol {tol:.0e}: median {rows[-1][2]:6.1f} ms (min {rows[-1][3]:.1f}, max "
-                  f"{rows[-1][4]:.1f}); error {err:.1e} (estimate {r.error_estimate:.1e}); "
-                  f"N = {rows[-1][9]}, {rows[-1][10]} evaluations")
+            ours, peer, r = timed[model, tol]
+            ntst, auto_err = meshes.get((model, tol), (None, math.nan))
+            err = abs(r.kappa_s - refs[model].kappa_s)
+            ms, auto_ms = 1e3 * float(np.median(ours)), \
+                (1e3 * float(np.median(peer)) if peer.size else math.nan)
+            ratio = ms / auto_ms
+            rows.append([model, tol, ms, 1e3 * ours.min(), 1e3 * ours.max(), r.error_estimate,
+                         err, r.stats["fold"]["resolution"]["nodes"], r.stats["evaluations"],
+                         ntst if ntst else "", auto_ms, auto_err, ratio,
+                         "" if math.isnan(ratio) else ("met" if ratio <= GOAL else "missed"),
+                         repeats, r.kappa_s])
+            print(f"  tol {tol:.0e}: shellbvp {ms:6.1f} ms, error {err:.1e} (estimate "
+                  f"{r.error_estimate:.1e}), N = {rows[-1][7]}, {rows[-1][8]} evaluations | "
+                  f"AUTO-07p NTST {ntst}: {auto_ms:6.1f} ms, error {auto_err:.1e} | "
+                  f"ratio {ratio:.2f} ({rows[-1][13] or 'no peer'})")
     write_csv(a.out / "bench_snap.csv",
-              ["model", "tol", "median_ms", "min_ms", "max_ms", "repeats", "kappa_s_R0",
-               "error_estimate", "error_vs_reference", "final_nodes", "evaluations"], rows)
+              ["model", "tol", "median_ms", "min_ms", "max_ms", "error_estimate",
+               "error_vs_reference", "final_nodes", "evaluations", "auto_ntst",
+               "auto_median_ms", "auto_error_vs_reference", "ratio", "goal_0.5", "rounds",
+               "kappa_s_R0"], rows)
 
     if not a.no_startup:
         srows = []
         for model in MODELS:
             with tempfile.TemporaryDirectory() as d:
-                for cache in ("cold", "warm"):
+                for cache in ("cold", "warm", "warm"):
                     wall, line = startup(model, d)
-                    srows.append([model, cache, wall])
+                    srows.append([model, cache, "command", wall])
                     print(f"start-up {model:>12s}, {cache} cache: {wall:5.1f} s  ({line})")
-        write_csv(a.out / "bench_snap_startup.csv", ["model", "cache", "command_wall_s"], srows)
+            for cache in ("cold", "warm"):
+                with tempfile.TemporaryDirectory() as d:
+                    if cache == "warm":
+                        startup(model, d)
+                    shares, total = phases(model, d)
+                print(f"  {cache} process, phases: {total:.1f} s in all; " + "; ".join(
+                    f"{k} {v:.2f} s" for k, v in shares.items()))
+                srows += [[model, cache, k, v] for k, v in shares.items()]
+        write_csv(a.out / "bench_snap_startup.csv", ["model", "cache", "phase", "seconds"],
+                  srows)
 
-    write_csv(a.out / "bench_snap_fig3.csv",
-              ["lam", "caps", "along_fold_curve_s", "restarts_s", "caps_along_fold_curve",
-               "max_abs_difference"], fig3_set(quick=a.quick))
+    if not a.no_fig3:
+        write_csv(a.out / "bench_snap_fig3.csv",
+                  ["lam", "caps", "along_fold_curve_s", "restarts_s", "caps_along_fold_curve",
+                   "max_abs_difference"], fig3_set(quick=a.quick))
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for model, color in zip(MODELS, ("C0", "C1")):
         sel = [r for r in rows if r[0] == model]
-        ax.loglog([r[2] for r in sel], [max(r[8], 1e-16) for r in sel], "o-", color=color,
+        ax.loglog([r[2] for r in sel], [max(r[6], 1e-16) for r in sel], "o-", color=color,
                   label=f"shellbvp, {model} (error)")
-        ax.loglog([r[2] for r in sel], [max(r[7], 1e-16) for r in sel], "s:", color=color,
+        ax.loglog([r[2] for r in sel], [max(r[5], 1e-16) for r in sel], "s:", color=color,
                   mfc="none", label=f"shellbvp, {model} (estimate)")
         for r in sel:
-            ax.annotate(f"tol {r[1]:.0e}", (r[2], max(r[8], 1e-16)), fontsize=6,
+            ax.annotate(f"tol {r[1]:.0e}", (r[2], max(r[6], 1e-16)), fontsize=6,
                         xytext=(3, -8), textcoords="offset points")
-        t, e = zip(*AUTO[model])
-        ax.loglog(t, e, "x", color=color, ms=9, mew=2,
-                  label=f"AUTO-07p, this machine type, {model}")
-    ax.set_xlabel("wall time per kappa_s [ms] (one core, steady state, median)")
+        peer = [r for r in sel if math.isfinite(r[10])]
+        if peer:
+            ax.loglog([r[10] for r in peer], [max(r[11], 1e-16) for r in peer], "x--",
+                      color=color, ms=8, mew=2, label=f"AUTO-07p, same run, {model}")
+            for r in peer:
+                ax.annotate(f"NTST {r[9]}", (r[10], max(r[11], 1e-16)), fontsize=6,
+                            xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("wall time per kappa_s [ms] (one pinned core, median)")
     ax.set_ylabel("|kappa_s R0 error|")
-    ax.set_title("Theta = pi/6, h0/R0 = 0.01, lam = 1, CG", fontsize=9)
+    ax.set_title("Theta = pi/6, h0/R0 = 0.01, lam = 1, CG: shellbvp (steady state) and "
+                 "AUTO-07p (whole process)", fontsize=8)
     ax.legend(fontsize=6.5, loc="upper right")
     finish(fig, a.out, "bench_snap")
 

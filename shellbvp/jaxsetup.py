@@ -8,11 +8,20 @@ JAX's persistent compilation cache (compiled XLA programs kept on disk in
 ``$SHELLBVP_CACHE_DIR/jax``, so that a new process skips compilation) is on for the command
 line (:func:`use_persistent_cache` with ``default=True``: it compiles a handful of programs,
 and a later ``shellbvp snap`` starts in seconds instead of ~15 s) and off by default for the
-library: with jax/jaxlib 0.10.2 on CPU, loading a cached executable once aborted a test
-process (``Fatal Python error: Aborted`` inside ``compilation_cache.get_executable_and_time``)
-after it had compiled several hundred programs; the cause is not isolated, and a crash is
-worse than a recompile. ``SHELLBVP_JAX_CACHE=on`` / ``off`` overrides both defaults; a cache
-the user configured in JAX itself is left alone.
+library. A test process once aborted while loading a cached program (jax/jaxlib 0.10.2 on
+CPU, ``Fatal Python error: Aborted`` inside ``compilation_cache.get_executable_and_time``,
+after several hundred programs). It was not reproduced: 400 programs written and reloaded
+in one process; two processes writing one empty cache at once; a reload from entries
+truncated or overwritten with garbage (recompiled, JAX checks every entry); the test
+suite's own programs (590 entries, 26 MB) written by one run of the whole default suite and
+reloaded by a second (tests/test_jax_cache.py repeats the first three). Reports elsewhere
+point at deserialisation itself: jaxlib < 0.10 crashing on large cached executables on
+Linux and macOS (LLVM's object linking recursing on a fixed stack), and CPU executables
+rejected on reload where the host's features differ (a recompile, not a crash). A library
+call can run in any process (a notebook, a cluster worker) with programs far larger than
+the command line's, so the library keeps the cache off by default: a crash is worse than a
+recompile. ``SHELLBVP_JAX_CACHE=on`` / ``off`` overrides both defaults; a cache the user
+configured in JAX itself is left alone.
 """
 
 from __future__ import annotations
