@@ -137,6 +137,7 @@ def test_collocation_order_under_mesh_refinement():
     assert -5.0 <= slope <= -3.0, (n, err, slope)
 
 
+@pytest.mark.slow   # ~110 s: one compiled shooting program per step count
 def test_shooting_order_under_step_refinement():
     """Tsit5 is 5th order: with fixed steps per segment (2 segments) the error in (r, z, theta)
     at the nodes falls like steps^-5 (measured slope ~ -5.6); reference: 256 steps."""

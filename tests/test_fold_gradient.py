@@ -50,6 +50,7 @@ def test_gradient_is_refused_for_other_methods():
         ce.snap_curvature(THETA, H0, gradient=True, method="collocation")
 
 
+@pytest.mark.slow   # ~2 min on a fresh process: four kappa_s with gradients at tol 1e-10
 def test_design_example_of_the_docs_hits_its_target():
     """The design() of the docs (theory page): Newton with the exact gradient finds the opening angle whose
     kappa_s is the target; checked by an independent kappa_s at that angle."""
