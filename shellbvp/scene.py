@@ -40,7 +40,9 @@ LAM_MAX = 1e8
 #: Theta = pi/6 resolves lam / h**2 = 3e9 at h = 1e-3, 3e-3 and 1e-2 and stalls at 1e10
 #: for all three (lam = 1e4, 1e5, 1e6); Theta = pi/3, h = 0.1 resolves 1e9 and fails at
 #: 2.5e9 (the inner (lam1, k1) Newton at the fold); Theta = 0.05, h = 1e-4 resolves 3e10 and
-#: stalls at 1e11. The fence is the largest value resolved anywhere: beyond it nothing
+#: stalls at 1e11; Theta = 1.5, h = 0.03 resolves 3.3e9; Theta = 0.2, h = 3e-3 stalls at
+#: 5.6e9 (no simple law in Theta or T fits all seven). The fence is the largest value
+#: resolved anywhere: beyond it nothing
 #: measured resolves; below it a cap that does not ends in a ConvergenceError that names
 #: the same remedy (driver.follow), rather than a refused case that would have worked.
 LAM_OVER_H2_MAX = 3e10
