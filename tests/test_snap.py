@@ -101,12 +101,14 @@ def test_a_finer_rung_stops_after_one_update_where_its_bound_allows():
     its inner roots carried (``transfer``), and its first solve stops after one update
     where the error that can leave is below the tolerance. Its fold equals the one
     polished from the same state with cold inner roots to tol 1e-14 (never one update):
-    kappa to 1e-12, w / H to 1e-9 (the monitor tolerance), on three rungs; from degree 24
-    on (20 -> 24 moves the fold too far for one update) in fewer Newton iterations."""
+    kappa to 1e-12, w / H to 1e-9 (the monitor tolerance), on three rungs from degree 24
+    (where the ladder of tol 1e-6 ends: two changes within tol, 16 -> 20 -> 24), the
+    later two in fewer Newton iterations (20 -> 24 moves the fold too far for one update,
+    which is why the first of the three is not asked to)."""
     from shellbvp.continuation import polish_fold
 
     current = ce.snap_curvature(0.4, H0, 1.0, tol=1e-6).fold
-    assert current.system.N == 20
+    assert current.system.N == 24
     c = current.stats["curvature"]
     fewer = []
     for _ in range(3):

@@ -157,11 +157,11 @@ def fold_ladder(system, U, p, *, options: ContinuationOptions = ContinuationOpti
     """A fold known approximately on ``system`` (state U, parameter p), to
     ``options.fold_tol``: :func:`solve_fold` on the first rung the tolerance needs
     (``system.at_tolerance``), then on its refinement, and so on, until p changes by at
-    most ``fold_tol`` from one rung to the next. As in :func:`shellbvp.continuation.ladder`
-    the change (at least the round-off of the Newton floor and of the problem,
-    ``bvp.round_off``), plus the error in p the finer rung's last Newton update may have
+    most ``fold_tol`` on two consecutive rungs. As in :func:`shellbvp.continuation.ladder`
+    the larger change (at least the round-off of the Newton floor and of the problem,
+    ``bvp.round_off``), plus the error in p the finest rung's last Newton update may have
     left (``stats["location"]``, its quadratic prediction), is the error estimate and the
-    finer fold is returned. ConvergenceError if the round-off exceeds ``fold_tol`` or after
+    finest fold is returned. ConvergenceError if the round-off exceeds ``fold_tol`` or after
     ``options.max_refinements`` rungs."""
     t0 = time.perf_counter() if t0 is None else t0
     refuse_below_round_off(system, p, options.fold_tol)
