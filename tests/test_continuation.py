@@ -394,3 +394,43 @@ def test_fold_keeps_its_state():
     at_fold = np.max(np.abs(system.evaluate(U, r.kappa_s)[0]))
     moved = np.max(np.abs(system.evaluate(U, r.kappa_s + 1e-4)[0]))
     assert at_fold < 1e-3 * moved, (at_fold, moved)
+
+
+def test_ladder_estimate_survives_an_error_that_crosses_zero():
+    """The refinement ladder (``climb``) on a synthetic sequence of rungs whose fold error
+    oscillates in sign with the degree, the sequence measured on a thick deep plane-strain
+    cap (h = 0.124, Theta = 1.96): errors -1.0e-9, 6.7e-12, 1.8e-11, -3.6e-12 at N = 36,
+    40, 44, 48. A single change within tol = 1e-10 (40 -> 44: 1.1e-11) would have stopped
+    at 44 with an estimate below its error; two consecutive changes go on to 48, whose
+    estimate (2.2e-11) bounds its error (3.6e-12)."""
+    from dataclasses import dataclass, field
+
+    from shellbvp.continuation.folds import climb
+    from shellbvp.results import Fold
+
+    exact = 3.13545366550586
+    errors = {36: -1.0e-9, 40: 6.7e-12, 44: 1.8e-11, 48: -3.6e-12, 52: 3.3e-13}
+
+    @dataclass(frozen=True)
+    class Rung:
+        N: int
+
+        def refined(self):
+            return Rung(self.N + 4)
+
+        def describe(self):
+            return {"method": "synthetic", "nodes": self.N}
+
+    stats = dict(solves=1, newton_iterations=1, round_off=0.0, location=0.0, curvature=-1.0)
+
+    def fold_on(rung):
+        return Fold(p=exact + errors[rung.N], monitor=0.5, U=None, system=rung,
+                    stats=dict(stats))
+
+    first = Rung(36)
+    fold = climb(first, first, fold_on(first), lambda finer, current: fold_on(finer),
+                 options=ContinuationOptions(fold_tol=1e-10), index=-1, t0=0.0,
+                 location_weight=1.0)
+    assert fold.system.N == 48
+    assert fold.error_estimate == pytest.approx(abs(errors[48] - errors[44]))
+    assert abs(fold.p - exact) <= fold.error_estimate
