@@ -120,7 +120,7 @@ def side_by_side(rows, repeats, auto, meshes):
             t = time.perf_counter()
             last[model, tol] = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
             ours[model, tol].append(time.perf_counter() - t)
-            ntst = meshes.get((model, tol), (None,))[0] if auto else None
+            ntst = meshes.get((model, tol), (None,))[0]     # none without AUTO
             if ntst is not None:
                 r = auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=ntst)
                 peer[model, tol].append(r["wall_s"] if r["ok"] else math.nan)

@@ -15,8 +15,8 @@ Grid (issue #10):
 * depth: Theta / pi in {0.05, 0.15, ..., 0.95}, h0/R0 = 0.01, lam = 1, relaxed
   (T = Theta / sqrt(h) from 1.6 to 29.8).
 
-Writes extreme_cases.csv and extreme_cases.png and prints the table as Markdown (for the
-README).
+Writes extreme_cases.csv (the docs' validation page reads it) and extreme_cases.png, and
+prints the table as Markdown.
 
     python figures/extreme_cases.py [--quick] [--timeout 300] [--replot]
 """
@@ -36,7 +36,7 @@ LAMS = (1e-3, 0.1, 1.0, 10.0, 1e2, 1e3, 1e4, 1e6)
 HS = (1e-4, 1e-3, 1e-2, 0.1, 0.2)
 DEPTHS = tuple(round(0.05 + 0.1 * k, 2) for k in range(10))
 #: the incompressible neo-Hookean kappa_s of the same cap (material="nh", tol 1e-9), the
-#: relaxed model's limit as lam -> infinity (README)
+#: relaxed model's limit as lam -> infinity (the docs' validation page)
 NH_LIMIT = 3.5093951206
 HEADER = ["group", "model", "theta", "h", "lam", "T", "status", "kappa_s", "w_s",
           "error_estimate", "check_difference", "seconds", "nodes", "evaluations", "reason"]

@@ -9,7 +9,7 @@ target area is fixed, so the energy is proportional to W and the equilibrium is 
 dW/dw (computed by complex-step differentiation, exact to round-off) continuously connected
 to w = 0 at kappa = 0.
 
-The paper's expansions, which the tests and the README compare with the symbolic series
+The paper's expansions, which the tests and the docs' validation page compare with the symbolic series
 (:func:`series`):
     plane strain: w/R0 = (1 - lam)/(24 (1 + lam)) (kappa h0)^2 + O((kappa h0)^3),
     relaxed:      w/R0 = 3 h lam (lam + 2)/(h^2 (10 lam^2 + lam - 2) + 12 (lam + 2)^2) (kappa h0)

@@ -110,9 +110,8 @@ def plot_branch(branch, ax=None, *, instability=None, label: str | None = None):
         ax.annotate(f"fold {f.p:.6g}", (f.w, f.p), fontsize=7, xytext=(-4, 6),
                     textcoords="offset points", ha="right")
     if instability is not None and instability.kind != "none":
-        what = "bifurcation" if instability.kind == "bifurcation" else instability.kind
         ax.plot(instability.w, instability.p, "*", ms=10, color="C3",
-                label=f"{what}, n = {instability.n}")
+                label=f"{instability.kind}, n = {instability.n}")
     ax.set_xlabel("w / R0")
     ax.set_ylabel(sc.parameter_column)
     if label is not None or (instability is not None and instability.kind != "none"):

@@ -42,9 +42,9 @@ LAM_MAX = 1e8
 #: 2.5e9 (the inner (lam1, k1) Newton at the fold); Theta = 0.05, h = 1e-4 resolves 3e10 and
 #: stalls at 1e11; Theta = 1.5, h = 0.03 resolves 3.3e9; Theta = 0.2, h = 3e-3 stalls at
 #: 5.6e9 (no simple law in Theta or T fits all seven). The fence is the largest value
-#: resolved anywhere: beyond it nothing
-#: measured resolves; below it a cap that does not ends in a ConvergenceError that names
-#: the same remedy (driver.follow), rather than a refused case that would have worked.
+#: resolved anywhere: beyond it nothing measured resolves; below it a cap that does not
+#: ends in a ConvergenceError that names the same remedy (driver.follow), rather than a
+#: refused case that would have worked.
 LAM_OVER_H2_MAX = 3e10
 #: what each material uses (for the error of a parameter it does not)
 USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parameter, and "

@@ -20,17 +20,11 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("**/*.md"))]
-FENCE = re.compile(r"^```(\w+)[^\n]*\n(.*?)^```", re.S | re.M)
+from docs_blocks import PAGES, ROOT, blocks
+
 SLOW = "<!-- docs-test: slow -->"
 #: shell lines that CI runs itself (install, test, docs build), not this test
 CI_LINES = re.compile(r"^(python -m pip install|python -m pytest|mkdocs build)")
-
-
-def blocks(page: Path):
-    """(language, code) of every fenced block of ``page``, in order."""
-    return [(m.group(1), m.group(2)) for m in FENCE.finditer(page.read_text())]
 
 
 def _page_id(page: Path) -> str:

@@ -3,8 +3,6 @@ against central differences of independent kappa_s computations, and the docs'
 inverse-design example."""
 
 import math
-import re
-from pathlib import Path
 
 import pytest
 
@@ -52,10 +50,11 @@ def test_gradient_is_refused_for_other_methods():
 
 @pytest.mark.slow   # ~2 min on a fresh process: four kappa_s with gradients at tol 1e-10
 def test_design_example_of_the_docs_hits_its_target():
-    """The design() of the docs (theory page): Newton with the exact gradient finds the opening angle whose
-    kappa_s is the target; checked by an independent kappa_s at that angle."""
-    text = "\n".join(f.read_text() for f in sorted((Path(__file__).parents[1] / "docs").glob("*.md")))
-    block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "def design(" in b)
+    """The design() of the docs (theory page): Newton with the exact gradient finds the
+    opening angle whose kappa_s is the target; checked by an independent kappa_s there."""
+    from docs_blocks import python_block
+
+    block = python_block("def design(")
     namespace = {}
     exec(block.split("\ntheta = design(")[0], namespace)
     theta = namespace["design"](5.0)

@@ -1,4 +1,4 @@
-"""The paper's printed formulas against our derivation (README section "Errata of the paper").
+"""The paper's printed formulas against our derivation (the docs' validation page, "Errata of the paper").
 
 Each test states one erratum (or one agreement) and decides it numerically at the generic
 principal state S below, with independent deciders where the print and the derivation

@@ -219,14 +219,11 @@ def test_bad_input_is_named():
 
 
 def test_pressure_example_of_the_docs_runs(tmp_path, monkeypatch):
-    """The pressure example of the docs (validation page): its p_cr/p0 within the published range at
-    lambda_B = 6 (0.972-0.995), and the branch CSV with its fold row."""
-    import re
-    from pathlib import Path
+    """The pressure example of the docs (validation page): its p_cr/p0 within the published
+    range at lambda_B = 6 (0.972-0.995), and the branch CSV with its fold row."""
+    from docs_blocks import python_block
 
-    text = "\n".join(f.read_text() for f in sorted((Path(__file__).parents[1] / "docs").glob("*.md")))
-    block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S)
-                 if "critical_pressure(" in b)
+    block = python_block("critical_pressure(")
     monkeypatch.chdir(tmp_path)
     namespace = {}
     exec(block, namespace)
