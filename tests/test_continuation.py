@@ -21,6 +21,7 @@ from shellbvp import Chebyshev, Collocation, ContinuationOptions, ConvergenceErr
 from bratu import BratuBVP
 from shellbvp.continuation import (locate_fold, newton, polish_fold, pseudo_arclength,
                                    refine_fold)
+from shellbvp.continuation.folds import bracket_estimate
 from shellbvp.methods.chebyshev import chebyshev_points, coefficients, differentiation_matrix
 from shellbvp.problems import cap_eversion as ce
 
@@ -434,3 +435,30 @@ def test_ladder_estimate_survives_an_error_that_crosses_zero():
     assert fold.system.N == 48
     assert fold.error_estimate == pytest.approx(abs(errors[48] - errors[44]))
     assert abs(fold.p - exact) <= fold.error_estimate
+
+
+def test_bracket_estimate_is_the_stationary_point_of_the_cubic_hermite_interpolant():
+    """The fold seed between two branch points, in closed form, against scipy's
+    CubicHermiteSpline (the independent route it replaced): the first stationary point in
+    the bracket and d2p/dm2 there, on 500 random brackets with opposite slopes (a fold
+    inside: exactly one stationary point) and with slopes of one sign (none or two: the
+    midpoint, or the one of smaller m; scipy lists roots unsorted)."""
+    from types import SimpleNamespace
+    from scipy.interpolate import CubicHermiteSpline
+
+    rng = np.random.default_rng(20261202)
+    for k in range(500):
+        ma, mb = np.sort(rng.normal(size=2))
+        pa, pb = rng.normal(size=2)
+        ga, gb = rng.normal(size=2)
+        if k % 2 == 0:
+            ga, gb = abs(ga), -abs(gb)
+        cubic = CubicHermiteSpline([ma, mb], [pa, pb], [ga, gb])
+        roots = cubic.derivative().roots(extrapolate=False)
+        roots = roots[np.isfinite(roots)]
+        m_ref = float(roots.min()) if roots.size else (ma + mb) / 2
+        a = SimpleNamespace(monitor=ma, p=pa, slope=ga)
+        b = SimpleNamespace(monitor=mb, p=pb, slope=gb)
+        m, c = bracket_estimate(b, a)          # either order
+        assert m == pytest.approx(m_ref, rel=1e-9, abs=1e-9)
+        assert c == pytest.approx(float(cubic(m_ref, 2)), rel=1e-8, abs=1e-8)
