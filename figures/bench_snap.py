@@ -153,7 +153,7 @@ t = time.perf_counter()
 import jax
 spent = {"import jax": time.perf_counter() - t}
 t = time.perf_counter()
-import shellbvp, shellbvp.cli, shellbvp.compiled as C, shellbvp.packed as P
+import shellbvp, shellbvp.cli, shellbvp.codegen as G, shellbvp.packed as P
 spent["import shellbvp"] = time.perf_counter() - t
 
 def timed(owner, name, phase):
@@ -166,7 +166,7 @@ def timed(owner, name, phase):
             spent[phase] = spent.get(phase, 0.0) + time.perf_counter() - t
     setattr(owner, name, wrapper)
 
-timed(C, "_generated", "symbolic derivation and generated code")
+timed(G, "_functions", "generated code (shipped, or derived by sympy)")
 timed(P.Packed, "_exported", "tracing (jax.export)")
 timed(P.Packed, "_program", "lowering + XLA compilation (or cache load)")
 t = time.perf_counter()

@@ -161,28 +161,27 @@ def test_derivation_is_cached_on_disk(tmp_path, monkeypatch):
 
 
 def test_generated_code_reloads_from_disk_without_sympy(tmp_path, monkeypatch):
-    """The lambdified energy is kept on disk as source and exec'd with jax.numpy in a later
-    process (no sympy import): the reloaded function is the same function. Reference: the
-    freshly lambdified one, on random states."""
+    """Code that is not shipped (another rhob1) is lambdified once, kept on disk as source
+    and exec'd with jax.numpy in a later process (no sympy): the reloaded function is the
+    same function. Reference: the freshly lambdified one, on random states."""
     import numpy as np
 
-    from shellbvp import compiled as C
-    from shellbvp import reduction as R
+    from shellbvp import codegen
 
     monkeypatch.setenv("SHELLBVP_CACHE_DIR", str(tmp_path))
-    import sympy as sp
+    calls = []
 
     def build():
-        W = R.full_energy("relaxed", "cg", stimulus={R.rhob1: 1, R.rhob2: 0, R.rhob3: 0})
-        args = (R.lam1, R.lam2, R.k1, R.k2, R.kb1, R.kb2, R.lam, R.h)
-        return {"W": sp.lambdify(args, W, modules="jax", cse=True)}
+        calls.append(1)
+        return codegen._build_energy("relaxed", "cg", 0.75)
 
     def refuse():
         raise AssertionError("the disk entry was not used")
 
-    key = C._source_key("test-energy")
-    C._generated(key, build)                      # generates and keeps the source
-    reloaded = C._generated(key, refuse)["W"]     # a later process: from disk only
+    label = "test-energy/relaxed/cg/0.75"
+    codegen._functions(label, build)                       # generates, keeps the source
+    reloaded = codegen._functions(label, refuse)["W"]      # a later process: disk only
+    assert calls == [1] and len(list(tmp_path.glob("*.pkl"))) == 1
     fresh = build()["W"]
     rng = np.random.default_rng(3)
     for _ in range(5):
