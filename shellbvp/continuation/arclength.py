@@ -80,10 +80,27 @@ def _fold_ahead(a: Point, b: Point, reach: float):
     return b.monitor + move if 0 < move / reach <= PROBE_REACH else None
 
 
-def _probe(system, b: Point, target: float, o: ContinuationOptions):
+def _hermite(a: Point, b: Point, monitor: float):
+    """(U, p) at the monitor value ``monitor`` ahead of b, extrapolated by the cubic Hermite
+    interpolant in m through a and b (values and exact tangents at both). A fold probe aims
+    past the fold, where p(m) turns: the linear prediction along b's tangent overshoots p
+    there, and a quadratic in m (symmetric about the fold it predicts) comes back to b's p
+    (6.07 and 2.47 for a probe whose point lies at p = 4.195 on the default cap; Newton
+    needed 3-4 updates from either)."""
+    h = b.monitor - a.monitor
+    t = (monitor - a.monitor) / h
+    t2, t3 = t * t, t * t * t
+    h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, 3 * t2 - 2 * t3, t3 - t2
+    ua, ub = a.dU / a.tangent[0], b.dU / b.tangent[0]
+    return (h00 * a.U + h10 * h * ua + h01 * b.U + h11 * h * ub,
+            h00 * a.p + h10 * h * a.slope + h01 * b.p + h11 * h * b.slope)
+
+
+def _probe(system, a: Point, b: Point, target: float, o: ContinuationOptions):
     """The branch point past b where the monitor equals ``target`` (Newton with the monitor
-    prescribed, from b's tangent), or None where that fails."""
-    res = newton(system, *b.predicted(target), 1.0, 0.0, target, tol=o.newton_tol,
+    prescribed, from the cubic extrapolation through a and b), or None where that
+    fails."""
+    res = newton(system, *_hermite(a, b, target), 1.0, 0.0, target, tol=o.newton_tol,
                  maxiter=o.newton_maxiter, predict=o.predicted_stop)
     return res if res.ok else None
 
@@ -158,7 +175,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
             # the ordinary step to be taken
             probed = len(pts)
             target = _fold_ahead(pts[-2], b, ds * b.tangent[0])
-            res = None if target is None else _probe(system, b, target, o)
+            res = None if target is None else _probe(system, pts[-2], b, target, o)
             if res is not None:
                 new = oriented(res, b, probe=True)
                 if not (admissible and admissible(new)):
