@@ -46,7 +46,7 @@ import numpy as np
 
 from .bvp_derivatives import Derivatives
 from .errors import ConvergenceError
-from .kernels import kernels, untraceable
+from .kernels import kernels, observable_and_gradient, untraceable
 from .meridian import MeridianStates
 from .nodal import Collocated, Hint, Nodal, carried_roots, flat_nodes
 from .scene import Scene
@@ -333,9 +333,10 @@ class ShellBVP(Derivatives, MeridianStates):
 
     def monitor(self, ya, yb):
         """The observable w / H (module docstring) and its gradients in ya and yb."""
-        m, (ga, gb) = self._k.observable(np.asarray(ya, dtype=float),
-                                            np.asarray(yb, dtype=float), self.scene.theta)
-        return float(m), np.asarray(ga), np.asarray(gb)
+        m, (ga, gb) = observable_and_gradient(np.asarray(ya, dtype=float),
+                                              np.asarray(yb, dtype=float), self.scene.theta,
+                                              self.scene.edge == "free", np)
+        return float(m), ga, gb
 
     def vector_field(self):
         """The traceable point function (piece, s, y, p, material_parameter, h) -> f (6,),

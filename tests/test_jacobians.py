@@ -123,3 +123,30 @@ def test_explicit_2x2_solve_matches_lapack_and_differentiates():
     _, jvp = jax.jvp(lambda M: solve_2x2(M, b), (A,), (dA,))
     fd = (np.linalg.solve(A + 1e-6 * dA, b) - np.linalg.solve(A - 1e-6 * dA, b)) / 2e-6
     assert np.max(np.abs(np.asarray(jvp) - fd)) <= 1e-8
+
+
+@pytest.mark.parametrize("free_edge", [True, False])
+def test_observable_gradient_in_closed_form_is_jax_gradient(free_edge):
+    """The monitor w / H and its gradients, written once in closed form for numpy (the host)
+    and jax.numpy (the kernels): the same values from both, and gradients equal to JAX's
+    automatic gradient of the value (reference: autodiff, not the closed form)."""
+    from shellbvp.jaxsetup import jax            # float64 on
+    from shellbvp.kernels import observable_and_gradient
+
+    jnp = jax.numpy
+
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        ya, yb = rng.normal(size=6), rng.normal(size=6)
+        theta = rng.uniform(0.1, 3.0)
+        m, (ga, gb) = observable_and_gradient(ya, yb, theta, free_edge, np)
+        mj, (gaj, gbj) = observable_and_gradient(jnp.asarray(ya), jnp.asarray(yb), theta,
+                                                 free_edge, jnp)
+        auto_a, auto_b = jax.grad(
+            lambda a, b: observable_and_gradient(a, b, theta, free_edge, jnp)[0],
+            argnums=(0, 1))(jnp.asarray(ya), jnp.asarray(yb))
+        assert float(mj) == pytest.approx(float(m), rel=1e-14)
+        np.testing.assert_allclose(ga, np.asarray(auto_a), rtol=1e-14, atol=1e-15)
+        np.testing.assert_allclose(gb, np.asarray(auto_b), rtol=1e-14, atol=1e-15)
+        np.testing.assert_allclose(np.asarray(gaj), ga, rtol=1e-14, atol=1e-15)
+        np.testing.assert_allclose(np.asarray(gbj), gb, rtol=1e-14, atol=1e-15)
