@@ -146,7 +146,8 @@ def startup(model, cache_dir):
 #: the child process of :func:`phases`: times each phase with wall clocks around the
 #: functions that hold it (the symbolic work: derivation and code generation, or the
 #: generated source read back; tracing: jax.export, or the exported program read back;
-#: lowering and XLA compilation, or the compiled program loaded: nested phases)
+#: lowering and XLA compilation, or the compiled program loaded from JAX's cache: the
+#: program phases are nested)
 PHASE_SCRIPT = """
 import sys, time
 t = time.perf_counter()
@@ -168,8 +169,7 @@ def timed(owner, name, phase):
 
 timed(G, "_functions", "generated code (shipped, or derived by sympy)")
 timed(P.Packed, "_exported", "tracing (jax.export)")
-timed(P.Packed, "_program", "tracing, lowering + XLA compilation (or loading)")
-timed(P.Packed, "_load_executable", "of which loading XLA's executable (warm)")
+timed(P.Packed, "_program", "tracing, lowering + XLA compilation (or cache load)")
 t = time.perf_counter()
 try:
     shellbvp.cli.main(["snap", "--model", sys.argv[1]])

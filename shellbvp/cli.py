@@ -16,6 +16,7 @@ which ``--resume`` continues.
 from __future__ import annotations
 
 import argparse
+import gc
 import math
 import signal
 import sys
@@ -177,5 +178,19 @@ def main(argv=None) -> int:
     return 0
 
 
+def run() -> None:
+    """The console command ``shellbvp``: :func:`main` on ``sys.argv``, exiting with its
+    status. The objects left are first frozen out of the garbage collector (``gc.freeze``):
+    otherwise the interpreter's shutdown spends ~0.25 s of a ~1.8 s warm ``shellbvp snap``
+    traversing JAX's and SciPy's object graphs, which the ending process drops anyway
+    (every file the command writes is closed by then, and the standard streams are
+    flushed at exit as always)."""
+    try:
+        code = main()
+    finally:
+        gc.freeze()
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

@@ -8,8 +8,6 @@ made the host overhead of a small system (Chebyshev N = 32) half of its evaluati
 from __future__ import annotations
 
 import math
-import os
-from functools import lru_cache
 
 import numpy as np
 
@@ -18,22 +16,6 @@ from .jaxsetup import jax
 import jax.numpy as jnp  # noqa: E402
 
 __all__ = ["Packed"]
-
-
-@lru_cache(maxsize=None)
-def _host_processor() -> str:
-    """The host's processor as XLA compiles for it: its model and feature flags where the
-    system states them (Linux), else the platform's description."""
-    import platform
-
-    try:
-        with open("/proc/cpuinfo") as f:
-            lines = [x for x in f if x.startswith(("model name", "flags"))]
-        if lines:
-            return "".join(sorted(set(lines)))
-    except OSError:
-        pass
-    return f"{platform.machine()} {platform.processor()}"
 
 
 class Packed:
@@ -49,10 +31,8 @@ class Packed:
     Each program is traced once, by ``jax.export`` (which also gives the output layout).
     With a ``key`` (a string that identifies ``fn`` and everything it closes over) the
     exported program is kept on disk (:func:`shellbvp.cache.memo`) and a later process
-    skips tracing (~1.2 s of a relaxed energy's W-jet). Where JAX's persistent compilation
-    cache is on (the command line), the compiled program itself is kept too, as XLA's
-    serialised executable (:meth:`_load_executable`): a later process then neither traces,
-    lowers nor compiles, and only XLA's loading of the program remains.
+    skips tracing (~1.2 s of a relaxed energy's W-jet): with JAX's persistent compilation
+    cache on as well, it then neither traces nor compiles.
     """
 
     def __init__(self, fn, key: str | None = None):
@@ -101,86 +81,14 @@ class Packed:
         shapes = [tuple(np.shape(a)) for a in args]
         dtypes = [np.asarray(a).dtype for a in args]
         n = int(sum(math.prod(sh) for sh in shapes))
-        loaded = self._load_executable(shapes, dtypes)
-        if loaded is not None:
-            program, leaves, skeleton = loaded
-        else:
-            exported, leaves, skeleton = self._exported(n, shapes, dtypes)
-            program = jax.jit(exported.call).trace(
-                jax.ShapeDtypeStruct((n,), np.float64)).lower().compile()
-            self._store_executable(shapes, dtypes, program, leaves, skeleton)
+        exported, leaves, skeleton = self._exported(n, shapes, dtypes)
+        program = jax.jit(exported.call).trace(
+            jax.ShapeDtypeStruct((n,), np.float64)).lower().compile()
         tree = jax.tree_util.tree_structure(skeleton)
         ends = np.cumsum([math.prod(sh) for sh, _ in leaves])
         layout = [(e - math.prod(sh), e, tuple(sh), np.dtype(dt))
                   for (sh, dt), e in zip(leaves, ends)]
         return program, tree, layout
-
-    def _executable_path(self, shapes, dtypes):
-        """Where the compiled program of these argument shapes is kept, or None: only with
-        a key, and only where JAX's persistent compilation cache is on (the same decision,
-        :func:`shellbvp.jaxsetup.use_persistent_cache`: loading a compiled program is the
-        step that is not safe in every process). The key holds the package's code (through
-        ``key``), JAX's and jaxlib's versions, the XLA flags and the host's processor, for
-        which the program was compiled."""
-        if self._key is None or not getattr(jax.config, "jax_compilation_cache_dir", None):
-            return None
-        from . import cache
-
-        folder = cache.cache_dir()
-        if folder is None:
-            return None
-        import jaxlib
-
-        k = cache.key("executable", self._key, shapes, [str(d) for d in dtypes],
-                      jax.__version__, jaxlib.__version__, os.environ.get("XLA_FLAGS", ""),
-                      _host_processor())
-        return folder / "executables" / f"{k}.pkl"
-
-    def _load_executable(self, shapes, dtypes):
-        """(program, leaves, skeleton) read back from :meth:`_executable_path`, or None
-        (absent, damaged, or refused by this JAX). Skips tracing, lowering and the
-        compilation cache's key of a warm process (~0.25 s of the default cap's 0.75 s; the
-        rest is XLA deserialising the program). The bytes are checked against their
-        SHA-256 before XLA sees them: a damaged entry is recompiled, never loaded."""
-        path = self._executable_path(shapes, dtypes)
-        if path is None or not path.exists():
-            return None
-        import hashlib
-        import pickle
-
-        from jax.experimental import serialize_executable
-
-        try:
-            with open(path, "rb") as f:
-                digest, blob, in_tree, out_tree, leaves, skeleton = pickle.load(f)
-            if hashlib.sha256(blob).hexdigest() != digest:
-                return None
-            program = serialize_executable.deserialize_and_load(blob, in_tree, out_tree)
-        except Exception:  # damaged or from another JAX: compile as if absent
-            return None
-        return program, leaves, skeleton
-
-    def _store_executable(self, shapes, dtypes, program, leaves, skeleton):
-        """Keep the compiled ``program`` at :meth:`_executable_path` (atomically; nothing
-        where the program cannot be serialised or the folder cannot be written)."""
-        path = self._executable_path(shapes, dtypes)
-        if path is None:
-            return
-        import hashlib
-        import pickle
-
-        from jax.experimental import serialize_executable
-
-        from .cache import atomic_write_bytes
-
-        try:
-            blob, in_tree, out_tree = serialize_executable.serialize(program)
-            data = pickle.dumps((hashlib.sha256(blob).hexdigest(), blob, in_tree, out_tree,
-                                 leaves, skeleton), protocol=pickle.HIGHEST_PROTOCOL)
-            path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write_bytes(path, data)
-        except Exception:   # not serialisable, or a read-only folder: in memory only
-            pass
 
     def dispatch(self, *args):
         """Start the computation (JAX dispatches asynchronously) and return a handle for

@@ -50,6 +50,29 @@ def test_branch_command_writes_csv(tmp_path, capsys):
     assert "points" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("argv,code", [
+    (["shellbvp", "snap", "--tol", "0"], 2),
+    (["shellbvp", "branch", "--theta", str(math.pi / 6), "--kappa-max", "0.4", "--csv",
+      "{tmp}/b.csv"], 0),
+])
+def test_console_command_exits_with_the_status_of_main(argv, code, tmp_path, monkeypatch,
+                                                       capsys):
+    """``shellbvp`` (cli.run) is main on sys.argv, exiting with its status, bad input and
+    success alike; it freezes the garbage collector's objects on the way out (undone here,
+    where the test process goes on)."""
+    import gc
+    import sys
+
+    monkeypatch.setattr(sys, "argv", [a.format(tmp=tmp_path) for a in argv])
+    try:
+        with pytest.raises(SystemExit) as e:
+            cli.run()
+        assert gc.get_freeze_count() > 0
+    finally:
+        gc.unfreeze()
+    assert e.value.code == code
+
+
 def test_snap_command_prints_kappa_s(capsys):
     from shellbvp.problems import cap_eversion as ce
 

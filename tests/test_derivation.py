@@ -224,66 +224,6 @@ def test_exported_kernels_reload_from_disk_without_tracing(tmp_path, monkeypatch
         assert np.array_equal(a, b)
 
 
-def test_compiled_kernels_reload_from_disk_without_compiling(tmp_path, monkeypatch):
-    """Where JAX's persistent cache is on, a compiled kernel is kept on disk as XLA's
-    serialised executable: a later Packed with the same key loads it, neither tracing nor
-    lowering nor compiling (all refused here), and computes the same numbers (reference:
-    the freshly compiled program). A damaged entry (one byte of the program changed) fails
-    its SHA-256 and is compiled again, never handed to XLA."""
-    from shellbvp.jaxsetup import jax
-
-    import jax.numpy as jnp
-
-    monkeypatch.setenv("SHELLBVP_CACHE_DIR", str(tmp_path))
-    # JAX's persistent cache on (the executables go to disk only then), for this test only
-    before = jax.config.jax_compilation_cache_dir
-    jax.config.update("jax_compilation_cache_dir", str(tmp_path / "jax"))
-    try:
-        _reload_compiled(tmp_path, monkeypatch, jax, jnp)
-    finally:
-        jax.config.update("jax_compilation_cache_dir", before)
-
-
-def _reload_compiled(tmp_path, monkeypatch, jax, jnp):
-    import pickle
-
-    import numpy as np
-    from jax import export
-
-    from shellbvp.packed import Packed
-
-    def fn(x, k):
-        return jnp.sin(x) * k, (jnp.sum(x) > 0, jnp.linalg.solve(jnp.eye(2) * k, x[:2]))
-
-    x = np.array([0.3, -1.2, 2.0])
-    fresh = Packed(fn, key="test-executable")(x, 2.0)
-    (entry,) = (tmp_path / "executables").iterdir()
-
-    def refuse(*args, **kwargs):
-        raise AssertionError("traced or compiled again instead of loading the disk entry")
-
-    with monkeypatch.context() as m:
-        m.setattr(export, "export", refuse)
-        m.setattr(export, "deserialize", refuse)
-        m.setattr(jax, "jit", refuse)
-        reloaded = Packed(fn, key="test-executable")(x, 2.0)
-    for a, b in zip(jax.tree_util.tree_leaves(fresh), jax.tree_util.tree_leaves(reloaded)):
-        assert np.asarray(a).dtype == np.asarray(b).dtype
-        assert np.array_equal(a, b)
-
-    digest, blob, *rest = pickle.loads(entry.read_bytes())
-    damaged = bytearray(blob)
-    damaged[len(damaged) // 2] ^= 0xFF
-    entry.write_bytes(pickle.dumps((digest, bytes(damaged), *rest)))
-    from jax.experimental import serialize_executable
-
-    loaded = []    # (an exception raised inside the loader would read as a damaged entry)
-    monkeypatch.setattr(serialize_executable, "deserialize_and_load",
-                        lambda *a, **k: loaded.append(a))
-    again = Packed(fn, key="test-executable")(x, 2.0)
-    assert loaded == [] and np.array_equal(again[0], fresh[0])
-
-
 def test_kernel_disk_keys_cover_only_code_the_package_hashes():
     """Kernels go to disk only when the scene's functions are the package's own code (a
     module-level function); a user's closure keeps its programs in memory (its code is not
