@@ -181,7 +181,7 @@ def main(argv=None) -> int:
 def run() -> None:
     """The console command ``shellbvp``: :func:`main` on ``sys.argv``, exiting with its
     status. The objects left are first frozen out of the garbage collector (``gc.freeze``):
-    otherwise the interpreter's shutdown spends ~0.25 s of a ~1.8 s warm ``shellbvp snap``
+    otherwise the interpreter's shutdown spends ~0.25 s of a ~1.6 s warm ``shellbvp snap``
     traversing JAX's and SciPy's object graphs, which the ending process drops anyway
     (every file the command writes is closed by then, and the standard streams are
     flushed at exit as always)."""
