@@ -162,3 +162,35 @@ def test_monitor_gradient_matches_finite_differences():
         e[k] = 1e-6
         fd[k] = (system.monitor(U + e)[0] - system.monitor(U - e)[0]) / 2e-6
     assert np.max(np.abs(g - fd)) < 1e-7
+
+
+def test_inner_warm_start_is_carried_to_second_order_from_the_states_it_was_taken_at():
+    """The inner roots (lam1, k1) of one evaluation, carried to the next iterate along their
+    implicit derivative (:func:`shellbvp.nodal.carried_roots`), start the next inner Newton
+    O(change^2) from its roots; the warm start keeps the states it was taken at even when
+    the outer Newton updates its unknowns in place (it once held a view of them, and the
+    roots were then carried by the change in p alone)."""
+    from shellbvp.nodal import carried_roots, flat_nodes
+
+    fold = kappa_s(24)
+    system = cheb(24)
+    U = fold.U.copy()
+    system.evaluate(U, fold.p)
+    hint = system._hint
+    taken_at = flat_nodes(system.split(U))
+    assert not np.shares_memory(hint.y, U)
+    direction = system.from_profile(system.bvp.reference) - fold.U
+    errors = []
+    for size in (1e-3, 1e-4):
+        U -= size * direction                      # in place, as Newton updates its iterate
+        assert np.array_equal(hint.y, taken_at)
+        y_new = flat_nodes(system.split(U))
+        start = carried_roots(hint, y_new, fold.p)
+        system.evaluate(U, fold.p)                 # its roots at the new states
+        roots = system._hint.q
+        errors.append(np.max(np.abs(start - roots) / (1.0 + np.abs(roots))))
+        U += size * direction
+        system.evaluate(U, fold.p)
+        hint = system._hint
+    # second order: a 10x smaller change leaves a ~100x smaller start error
+    assert errors[1] < errors[0] / 30, errors
