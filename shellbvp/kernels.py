@@ -40,8 +40,9 @@ def observable_and_gradient(ya, yb, theta, free_edge: bool, xp):
     sign = (1.0 if free_edge else -1.0) / H
     rel = yb[1] - (ya[1] + ya[0] * ya[2] / 2) - (xp.cos(theta) - 1.0)
     zero = 0.0 * ya[0]
-    ga = -sign * xp.stack([ya[2] / 2, 1.0 + zero, ya[0] / 2, zero, zero, zero])
-    gb = sign * xp.stack([zero, 1.0 + zero, zero, zero, zero, zero])
+    # asarray, not stack: numpy's stack of six scalars took 10 of this function's 14 us
+    ga = -sign * xp.asarray([ya[2] / 2, 1.0 + zero, ya[0] / 2, zero, zero, zero])
+    gb = sign * xp.asarray([zero, 1.0 + zero, zero, zero, zero, zero])
     return sign * rel, (ga, gb)
 
 

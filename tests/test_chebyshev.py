@@ -194,3 +194,21 @@ def test_inner_warm_start_is_carried_to_second_order_from_the_states_it_was_take
         hint = system._hint
     # second order: a 10x smaller change leaves a ~100x smaller start error
     assert errors[1] < errors[0] / 30, errors
+
+
+@pytest.mark.parametrize("N, M", [(24, 28), (32, 24), (36, 36), (9, 40)])
+def test_regridding_matrix_interpolates_polynomials_exactly(N, M):
+    """Carrying values between Chebyshev degrees (the fold ladder's rungs) by the
+    barycentric matrix: exact for a polynomial of degree N (closed form at the new points),
+    and the interpolant of the DCT route (coefficients, then Clenshaw) for any values."""
+    from shellbvp.methods.chebyshev import (chebyshev_points, coefficients, evaluate,
+                                            regridding_matrix)
+
+    rng = np.random.default_rng(N + M)
+    c = rng.standard_normal(N + 1)
+    poly = np.polynomial.Polynomial(c, domain=[0.0, 1.0])
+    moved = poly(chebyshev_points(N)) @ regridding_matrix(N, M).T
+    assert np.max(np.abs(moved - poly(chebyshev_points(M)))) < 1e-12 * np.sum(np.abs(c))
+    values = rng.standard_normal((6, N + 1))
+    via_dct = evaluate(coefficients(values), chebyshev_points(M))
+    assert np.max(np.abs(values @ regridding_matrix(N, M).T - via_dct)) < 1e-13
