@@ -22,9 +22,10 @@ cache folder (cold: symbolic derivation, tracing, XLA compilation) and again wit
 (warm), and the time of each phase in a cold and a warm process.
 
 Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threaded BLAS,
-XLA and OpenMP). Writes bench_snap.csv, bench_snap_startup.csv, bench_snap_fig3.csv and
-bench_snap.png. Where AUTO-07p or its runtime libraries are missing, says how to install
-them and times shellbvp alone.
+XLA and OpenMP). Writes bench_snap.csv, bench_snap_breakdown.csv (where the steady-state
+time goes: compiled kernel, LU, host work; :func:`breakdown`), bench_snap_startup.csv,
+bench_snap_fig3.csv and bench_snap.png. Where AUTO-07p or its runtime libraries are
+missing, says how to install them and times shellbvp alone.
 
     python figures/bench_snap.py [--quick] [--repeats 7] [--no-startup] [--no-fig3]
 """
@@ -125,6 +126,52 @@ def side_by_side(rows, repeats, auto, meshes):
                 r = auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=ntst)
                 peer[model, tol].append(r["wall_s"] if r["ok"] else math.nan)
     return {row: (np.array(ours[row]), np.array(peer[row]), last[row]) for row in rows}
+
+
+def breakdown(rows, repeats):
+    """{(model, tol): (total, kernel, LU) medians in ms per kappa_s}: where the steady-state
+    time of one kappa_s goes, in separate rounds (the clocks around the calls cost a few us
+    each, so the side-by-side rows are timed without them). Kernel: every call of a compiled
+    program (:class:`shellbvp.packed.Packed`: the packing of its arguments, XLA's run and
+    the unpacking); LU: every factorisation of a bordered matrix (LAPACK dgetrf, with the
+    copy into the bordered matrix); the rest is host work in Python and numpy (assembly,
+    Newton, continuation and fold bookkeeping)."""
+    from shellbvp import packed
+    from shellbvp.continuation import newton as newton_module
+    from shellbvp.problems import cap_eversion as ce
+
+    newton_module = sys.modules[newton_module.__module__]   # the module, not the function
+    spent = {"kernel": 0.0, "LU": 0.0}
+
+    def clocked(owner, name, what):
+        f = getattr(owner, name)
+
+        def wrapper(*args, **kwargs):
+            t = time.perf_counter()
+            try:
+                return f(*args, **kwargs)
+            finally:
+                spent[what] += time.perf_counter() - t
+        setattr(owner, name, wrapper)
+        return f
+
+    kept = [(packed.Packed, "__call__", clocked(packed.Packed, "__call__", "kernel")),
+            (newton_module, "bordered_lu",
+             clocked(newton_module, "bordered_lu", "LU"))]
+    try:
+        out = {}
+        for model, tol in rows:
+            samples = []
+            for _ in range(repeats):
+                spent.update(kernel=0.0, LU=0.0)
+                t = time.perf_counter()
+                ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+                samples.append((time.perf_counter() - t, spent["kernel"], spent["LU"]))
+            out[model, tol] = tuple(1e3 * float(np.median(x)) for x in zip(*samples))
+        return out
+    finally:
+        for owner, name, f in kept:
+            setattr(owner, name, f)
 
 
 def _command():
@@ -270,6 +317,19 @@ def main(argv=None):
                   f"{r.error_estimate:.1e}), N = {rows[-1][7]}, {rows[-1][8]} evaluations | "
                   f"AUTO-07p NTST {ntst}: {auto_ms:6.1f} ms, error {auto_err:.1e} | "
                   f"ratio {ratio:.2f} ({rows[-1][13] or 'no peer'})")
+    parts = breakdown([(m, t) for m in MODELS for t in tols], repeats)
+    brows = []
+    print("where the time of one kappa_s goes (ms, medians; the floor is kernel + LU, "
+          "over AUTO-07p's time)")
+    for row in rows:
+        total, kernel, lu = parts[row[0], row[1]]
+        floor = (kernel + lu) / row[10]
+        brows.append([row[0], row[1], total, kernel, lu, total - kernel - lu, row[10], floor])
+        print(f"  {row[0]:>12s} tol {row[1]:.0e}: {total:5.1f} = kernel {kernel:4.1f} + LU "
+              f"{lu:4.1f} + host {total - kernel - lu:4.1f}; floor / AUTO {floor:.2f}")
+    write_csv(a.out / "bench_snap_breakdown.csv",
+              ["model", "tol", "total_ms", "kernel_ms", "lu_ms", "host_ms", "auto_median_ms",
+               "floor_ratio"], brows)
     write_csv(a.out / "bench_snap.csv",
               ["model", "tol", "median_ms", "min_ms", "max_ms", "error_estimate",
                "error_vs_reference", "final_nodes", "evaluations", "auto_ntst",

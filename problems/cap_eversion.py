@@ -86,10 +86,17 @@ def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_m
     or ``Collocation(...)``.
     """
     sc = scene(theta, h, lam, model=model, material=material, nu=nu)
+    return _branch_of(sc, kappa_max=kappa_max, n_folds=n_folds, w_max=w_max, method=method,
+                      options=_fold_options(options, tol, ContinuationOptions()),
+                      progress=progress, energies=energies)
+
+
+def _branch_of(sc, *, kappa_max, n_folds, w_max, method, options, progress,
+               energies) -> shellbvp.Branch:
+    """:func:`branch` of the scene ``sc`` (built and checked once by the caller)."""
     H = 1.0 - math.cos(sc.theta)
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
-    options = _fold_options(options, tol, ContinuationOptions())
     return shellbvp.follow(sc, method=method, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
                            progress=progress, energies=energies)
@@ -119,20 +126,20 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     if gradient and not _default_spectral(method):
         raise ValueError(f"gradient=True needs method='spectral', got method={method!r}")
     options = _fold_options(options, tol, ContinuationOptions.to_first_fold())
+    sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     if not _default_spectral(method):
         method = as_method(method)
     if _default_spectral(method):
         # the branch only brackets the fold, which is then located on the Chebyshev degrees
         # that tol needs: follow it on a coarser grid
-        method = Chebyshev(nodes=bracketing_nodes(scene(theta, h, lam, model=model,
-                                                                 material=material, nu=nu)))
+        method = Chebyshev(nodes=bracketing_nodes(sc))
     elif isinstance(method, shellbvp.Shooting) and method.bracket_rtol is None \
             and method.steps is None:
         # likewise for shooting: the branch at a loose ODE tolerance, the fold from rtol (or
         # from tol where rtol is left free)
         method = replace(method, bracket_rtol=max(method.rtol or 0.0, BRACKET_RTOL))
-    b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               method=method, options=options, energies=False)
+    b = _branch_of(sc, kappa_max=None, n_folds=1, w_max=None, method=method,
+                   options=options, progress=None, energies=False)
     T = theta / math.sqrt(h)
     if not b.folds and b.stop:
         # the branch ended before full eversion for a reason of its own: "no snap" would be

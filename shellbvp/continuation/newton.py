@@ -269,8 +269,8 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
         m, gm = system.monitor(U)
         last = alpha * gm + (0.0 if row is None else row)
         r = np.append(R, alpha * m + beta * p - c + (0.0 if row is None else float(row @ U)))
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(Rp))
-                and np.all(np.isfinite(J.data if is_sparse(J) else J))):
+        if not (np.isfinite(r).all() and np.isfinite(Rp).all()
+                and np.isfinite(J.data if is_sparse(J) else J).all()):
             history.append(("non-finite", it))
             return NewtonResult(U, p, m, False, it, history, fac, gm)
         try:

@@ -276,9 +276,11 @@ class NodalSystem:
         return np.asarray(nodal.hint.q).reshape(self.P, self.M + 1, 2)
 
     # --- the system --------------------------------------------------------------------------
-    def interior(self, Y, p, nodal):
+    def interior(self, Y, p, nodal, into=None):
         """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp),
-        given ``nodal``, the BVP's right-hand side at the nodes (:class:`shellbvp.bvp.Nodal`)."""
+        given ``nodal``, the BVP's right-hand side at the nodes (:class:`shellbvp.bvp.Nodal`).
+        ``into``: per piece, the block of the dense Jacobian dR_i/dY_i occupies (a view): a
+        method may write it there and return that view (no copy); it may also ignore it."""
         raise NotImplementedError
 
     def _collocate(self, Y, p):
@@ -299,6 +301,12 @@ class NodalSystem:
     #: assemble dR/dU as a dense array (small systems) or scipy.sparse CSC (large ones)
     dense_jacobian = True
 
+    def _interior_slots(self):
+        """(first row, first column) of each piece's interior block in the Jacobian: the
+        rows after the n boundary rows and the n continuity rows of every interface before."""
+        n, M = self.n, self.M
+        return [(n + i * (n * M + n), self.col(i, 0)) for i in range(self.P)]
+
     def _columns(self, i, node):
         """The columns of all n components of piece i at ``node``: a strided slice."""
         start = self.col(i, 0) + node
@@ -309,18 +317,24 @@ class NodalSystem:
         P, M, n = self.P, self.M, self.n
         nodal, (rb, Ja, Jb, Jpb), mon = self._collocate(Y, p)
         self._monitor = (np.array(U, dtype=float), mon)   # Newton asks for it at the same U
-        blocks = self.interior(Y, p, nodal)
+        J = into = None
+        if self.dense_jacobian:
+            J = np.zeros((self.size, self.size))
+            into = [J[r0:r0 + n * M, c0:c0 + n * (M + 1)] for r0, c0 in self._interior_slots()]
+        blocks = self.interior(Y, p, nodal, into=into)
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
         eye = np.eye(n) if P > 1 else None
         # (row offset, columns, block) triplets, then one assembly: an n x n block on the
-        # n columns of one node (a strided slice), or a block on consecutive columns
+        # n columns of one node (a strided slice), or a block on consecutive columns (not
+        # where the method wrote it in place already)
         parts = [(0, self._columns(0, 0), Ja), (0, self._columns(P - 1, M), Jb)]
         row = n
         for i, (Ri, Ji, Rpi) in enumerate(blocks):
             R.append(Ri)
             Rp.append(Rpi)
-            parts.append((row, self.col(i, 0), Ji))
+            if into is None or Ji is not into[i]:
+                parts.append((row, self.col(i, 0), Ji))
             row += n * M
             if i < P - 1:   # continuity of y at the interface b_i = a_{i+1}
                 R.append(Y[i, :, -1] - Y[i + 1, :, 0])
@@ -329,7 +343,6 @@ class NodalSystem:
                 parts.append((row, self._columns(i + 1, 0), -eye))
                 row += n
         if self.dense_jacobian:
-            J = np.zeros((self.size, self.size))
             for r0, c0, B in parts:
                 if isinstance(c0, slice):
                     J[r0:r0 + n, c0] += B

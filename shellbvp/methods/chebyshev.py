@@ -95,6 +95,14 @@ def regridding_matrix(N: int, M: int) -> np.ndarray:
     return C
 
 
+@lru_cache(maxsize=None)
+def _resampled_derivative(N: int) -> np.ndarray:
+    """d/dt resampled onto the first-kind points: the interior rows' operator (read-only)."""
+    PD = resampling_matrix(N) @ differentiation_matrix(N)
+    PD.flags.writeable = False
+    return PD
+
+
 def coefficients(values: np.ndarray) -> np.ndarray:
     """Chebyshev coefficients (along the last axis) of the interpolant through values at
     :func:`chebyshev_points` (a DCT-I; coefficient k multiplies T_k(1 - 2 t))."""
@@ -190,21 +198,26 @@ class ChebyshevSystem(NodalSystem):
     def __init__(self, bvp, N: int):
         super().__init__(bvp, chebyshev_points(N))
         self.N = N
-        self._PD = resampling_matrix(N) @ differentiation_matrix(N)
+        self._PD = _resampled_derivative(N)
         self._Pm = resampling_matrix(N)
 
-    def interior(self, Y, p, nod):
+    def interior(self, Y, p, nod, into=None):
         n, N = self.n, self.N
         L = self.bvp.lengths
         out = []
         for i in range(self.P):
             res = Y[i] @ self._PD.T - L[i] * (nod.f[i] @ self._Pm.T)             # (n, N)
             # d res[c, j] / d Y[c', k] = delta_cc' PD[j, k] - L Pm[j, k] J[c, c', k], built
-            # in its final (c, j, c', k) layout (no transposed copy)
-            blk = (-L[i] * self._Pm)[None, :, None, :] * nod.J[i][:, None, :, :]
+            # in its final (c, j, c', k) layout (no transposed copy), in place where the
+            # Jacobian's block is given (a reshape that only splits axes is always a view)
+            shape = (n, N, n, N + 1)
+            blk = None if into is None else into[i].reshape(shape)
+            blk = np.multiply((-L[i] * self._Pm)[None, :, None, :], nod.J[i][:, None, :, :],
+                              out=blk)
             for c in range(n):
                 blk[c, :, c, :] += self._PD
-            out.append((res.ravel(), blk.reshape(n * N, n * (N + 1)),
+            out.append((res.ravel(), into[i] if into is not None else
+                        blk.reshape(n * N, n * (N + 1)),
                         (-L[i] * (nod.fp[i] @ self._Pm.T)).ravel()))
         return out
 
