@@ -1,13 +1,30 @@
-"""Helpers shared by the figure scripts: argument parsing and atomic CSV/PNG output."""
+"""Helpers shared by the figure scripts: argument parsing, atomic CSV/PNG output, and wall
+clocks around a function (benchmarks)."""
 
 from __future__ import annotations
 
 import argparse
 import csv
 import io
+import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+
+
+def clock(owner, name: str, spent: dict, key: str):
+    """Replace ``owner.name`` by a wrapper that adds the wall time of every call to
+    ``spent[key]`` (nested clocks each count their own); returns the original, to restore."""
+    f = getattr(owner, name)
+
+    def wrapper(*args, **kwargs):
+        t = time.perf_counter()
+        try:
+            return f(*args, **kwargs)
+        finally:
+            spent[key] = spent.get(key, 0.0) + time.perf_counter() - t
+    setattr(owner, name, wrapper)
+    return f
 
 
 def parser(description: str) -> argparse.ArgumentParser:

@@ -55,7 +55,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from _common import HERE, finish, parser, pyplot, write_csv  # noqa: E402
+from _common import HERE, clock, finish, parser, pyplot, write_csv  # noqa: E402
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 MODELS = ("relaxed", "plane_strain")
@@ -142,22 +142,8 @@ def breakdown(rows, repeats):
 
     newton_module = sys.modules[newton_module.__module__]   # the module, not the function
     spent = {"kernel": 0.0, "LU": 0.0}
-
-    def clocked(owner, name, what):
-        f = getattr(owner, name)
-
-        def wrapper(*args, **kwargs):
-            t = time.perf_counter()
-            try:
-                return f(*args, **kwargs)
-            finally:
-                spent[what] += time.perf_counter() - t
-        setattr(owner, name, wrapper)
-        return f
-
-    kept = [(packed.Packed, "__call__", clocked(packed.Packed, "__call__", "kernel")),
-            (newton_module, "bordered_lu",
-             clocked(newton_module, "bordered_lu", "LU"))]
+    kept = [(packed.Packed, "__call__", clock(packed.Packed, "__call__", spent, "kernel")),
+            (newton_module, "bordered_lu", clock(newton_module, "bordered_lu", spent, "LU"))]
     try:
         out = {}
         for model, tol in rows:
@@ -203,16 +189,11 @@ spent = {"import jax": time.perf_counter() - t}
 t = time.perf_counter()
 import shellbvp, shellbvp.cli, shellbvp.codegen as G, shellbvp.packed as P
 spent["import shellbvp"] = time.perf_counter() - t
+sys.path.insert(0, sys.argv[2])
+from _common import clock
 
 def timed(owner, name, phase):
-    f = getattr(owner, name)
-    def wrapper(*a, **k):
-        t = time.perf_counter()
-        try:
-            return f(*a, **k)
-        finally:
-            spent[phase] = spent.get(phase, 0.0) + time.perf_counter() - t
-    setattr(owner, name, wrapper)
+    clock(owner, name, spent, phase)
 
 timed(G, "_functions", "generated code (shipped, or derived by sympy)")
 timed(P.Packed, "_exported", "tracing (jax.export)")
@@ -233,7 +214,8 @@ def phases(model, cache_dir):
     program phases are nested in the command's), and the process' wall time."""
     env = dict(os.environ, SHELLBVP_CACHE_DIR=str(cache_dir))
     t = time.perf_counter()
-    out = subprocess.run([sys.executable, "-c", PHASE_SCRIPT, model], env=env, check=True,
+    out = subprocess.run([sys.executable, "-c", PHASE_SCRIPT, model, str(HERE)], env=env,
+                         check=True,
                          capture_output=True, text=True).stdout
     total = time.perf_counter() - t
     shares = {}
