@@ -23,8 +23,7 @@ from .base import NodalSystem
 
 __all__ = ["Chebyshev", "ChebyshevSystem", "chebyshev_points", "differentiation_matrix",
            "regridding_matrix", "coefficients", "default_nodes", "bracketing_nodes",
-           "fold_nodes", "MIN_NODES",
-           "MAX_NODES", "REFINE_STEP", "refine_step"]
+           "fold_nodes", "MIN_NODES", "MAX_NODES", "REFINE_STEP", "refine_step"]
 
 #: the smallest degree that resolves a pole region and an edge layer at all
 MIN_NODES = 8
@@ -81,7 +80,8 @@ def regridding_matrix(N: int, M: int) -> np.ndarray:
     (-1)^k, halved at both ends; Berrut & Trefethen, SIAM Rev. 46, 2004), exact rows where
     a point of M coincides with one of N. The same polynomial as :func:`coefficients` and
     :func:`evaluate` give, as one product instead of a DCT and a Clenshaw recurrence per
-    row (~0.2 ms per carry between rungs of the fold ladder)."""
+    row (1.3 instead of 65 us for the six components at N = 24; a carry between rungs of
+    the fold ladder takes two, the state and the inner roots). Read-only (cached)."""
     t, tau = chebyshev_points(N), chebyshev_points(M)
     w = (-1.0) ** np.arange(N + 1)
     w[0] *= 0.5
@@ -92,6 +92,7 @@ def regridding_matrix(N: int, M: int) -> np.ndarray:
     C /= C.sum(axis=1, keepdims=True)
     hit = same.any(axis=1)
     C[hit] = same[hit].astype(float)
+    C.flags.writeable = False
     return C
 
 
