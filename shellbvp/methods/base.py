@@ -279,8 +279,9 @@ class NodalSystem:
     def interior(self, Y, p, nodal, into=None):
         """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp),
         given ``nodal``, the BVP's right-hand side at the nodes (:class:`shellbvp.bvp.Nodal`).
-        ``into``: per piece, the block of the dense Jacobian dR_i/dY_i occupies (a view): a
-        method may write it there and return that view (no copy); it may also ignore it."""
+        ``into``: given to methods whose ``dense_jacobian`` is True: per piece, the view of
+        the Jacobian that dR_i/dY_i occupies; the method writes the block there and returns
+        that view (no copy of the largest array of an evaluation)."""
         raise NotImplementedError
 
     def _collocate(self, Y, p):

@@ -148,7 +148,7 @@ class CollocationSystem(NodalSystem):
         self._rows = np.concatenate([(a * M + j).ravel()] * 2)
         self._cols = np.concatenate([(b * (M + 1) + j).ravel(), (b * (M + 1) + j + 1).ravel()])
 
-    def interior(self, Y, p, nod, into=None):     # sparse blocks: ``into`` is not used
+    def interior(self, Y, p, nod, into=None):     # into: never given (sparse Jacobian)
         import scipy.sparse as sps
 
         n, M, L = self.n, self.M, self.bvp.lengths
