@@ -137,10 +137,10 @@ def breakdown(rows, repeats):
     copy into the bordered matrix); the rest is host work in Python and numpy (assembly,
     Newton, continuation and fold bookkeeping)."""
     from shellbvp import packed
-    from shellbvp.continuation import newton as newton_module
     from shellbvp.problems import cap_eversion as ce
 
-    newton_module = sys.modules[newton_module.__module__]   # the module, not the function
+    # the module (the package shellbvp.continuation exports its function of the same name)
+    newton_module = importlib.import_module("shellbvp.continuation.newton")
     spent = {"kernel": 0.0, "LU": 0.0}
     kept = [(packed.Packed, "__call__", clock(packed.Packed, "__call__", spent, "kernel")),
             (newton_module, "bordered_lu", clock(newton_module, "bordered_lu", spent, "LU"))]
@@ -192,12 +192,9 @@ spent["import shellbvp"] = time.perf_counter() - t
 sys.path.insert(0, sys.argv[2])
 from _common import clock
 
-def timed(owner, name, phase):
-    clock(owner, name, spent, phase)
-
-timed(G, "_functions", "generated code (shipped, or derived by sympy)")
-timed(P.Packed, "_exported", "tracing (jax.export)")
-timed(P.Packed, "_program", "tracing, lowering + XLA compilation (or cache load)")
+clock(G, "_functions", spent, "generated code (shipped, or derived by sympy)")
+clock(P.Packed, "_exported", spent, "tracing (jax.export)")
+clock(P.Packed, "_program", spent, "tracing, lowering + XLA compilation (or cache load)")
 t = time.perf_counter()
 try:
     shellbvp.cli.main(["snap", "--model", sys.argv[1]])
@@ -215,8 +212,7 @@ def phases(model, cache_dir):
     env = dict(os.environ, SHELLBVP_CACHE_DIR=str(cache_dir))
     t = time.perf_counter()
     out = subprocess.run([sys.executable, "-c", PHASE_SCRIPT, model, str(HERE)], env=env,
-                         check=True,
-                         capture_output=True, text=True).stdout
+                         check=True, capture_output=True, text=True).stdout
     total = time.perf_counter() - t
     shares = {}
     for line in out.splitlines():

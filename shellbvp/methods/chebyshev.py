@@ -60,29 +60,12 @@ def differentiation_matrix(N: int) -> np.ndarray:
     return -2.0 * D
 
 
-@lru_cache(maxsize=None)
-def resampling_matrix(N: int) -> np.ndarray:
-    """Barycentric interpolation from the N + 1 second-kind points to the N first-kind points
-    (1 - cos(pi (j + 1/2) / N)) / 2 (no node coincides, so no special case)."""
+def _barycentric(N: int, tau: np.ndarray) -> np.ndarray:
+    """Values at :func:`chebyshev_points` (N) -> the interpolant's values at the points tau:
+    the (len(tau), N + 1) matrix of barycentric interpolation (second-kind weights (-1)^k,
+    halved at both ends; Berrut & Trefethen, SIAM Rev. 46, 2004), with exact rows where a
+    point of tau coincides with a node. Read-only (its callers cache it)."""
     t = chebyshev_points(N)
-    tau = (1.0 - np.cos(np.pi * (np.arange(N) + 0.5) / N)) / 2.0
-    w = (-1.0) ** np.arange(N + 1)
-    w[0] *= 0.5
-    w[-1] *= 0.5
-    C = w[None, :] / (tau[:, None] - t[None, :])
-    return C / C.sum(axis=1, keepdims=True)
-
-
-@lru_cache(maxsize=None)
-def regridding_matrix(N: int, M: int) -> np.ndarray:
-    """Values at :func:`chebyshev_points` (N) -> the interpolant's values at those of degree
-    M: the (M + 1, N + 1) matrix of barycentric interpolation (second-kind weights
-    (-1)^k, halved at both ends; Berrut & Trefethen, SIAM Rev. 46, 2004), exact rows where
-    a point of M coincides with one of N. The same polynomial as :func:`coefficients` and
-    :func:`evaluate` give, as one product instead of a DCT and a Clenshaw recurrence per
-    row (1.3 instead of 65 us for the six components at N = 24; a carry between rungs of
-    the fold ladder takes two, the state and the inner roots). Read-only (cached)."""
-    t, tau = chebyshev_points(N), chebyshev_points(M)
     w = (-1.0) ** np.arange(N + 1)
     w[0] *= 0.5
     w[-1] *= 0.5
@@ -94,6 +77,23 @@ def regridding_matrix(N: int, M: int) -> np.ndarray:
     C[hit] = same[hit].astype(float)
     C.flags.writeable = False
     return C
+
+
+@lru_cache(maxsize=None)
+def resampling_matrix(N: int) -> np.ndarray:
+    """Barycentric interpolation from the N + 1 second-kind points to the N first-kind points
+    (1 - cos(pi (j + 1/2) / N)) / 2 (no node coincides)."""
+    return _barycentric(N, (1.0 - np.cos(np.pi * (np.arange(N) + 0.5) / N)) / 2.0)
+
+
+@lru_cache(maxsize=None)
+def regridding_matrix(N: int, M: int) -> np.ndarray:
+    """Values at :func:`chebyshev_points` (N) -> the interpolant's values at those of degree
+    M (:func:`_barycentric`, exact rows where points coincide). The same polynomial as
+    :func:`coefficients` and :func:`evaluate` give, as one product instead of a DCT and a
+    Clenshaw recurrence per row (1.3 instead of 65 us for the six components at N = 24; a
+    carry between rungs of the fold ladder takes two, the state and the inner roots)."""
+    return _barycentric(N, chebyshev_points(M))
 
 
 @lru_cache(maxsize=None)
