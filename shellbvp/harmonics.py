@@ -171,7 +171,7 @@ def _hessian_kernel(model: str, material: str, rhob1: float):
     entries of (a, b), so its Hessian is taken in those six (36 second-order directions,
     not 324) and chained through the geometry: H_q = J^T H_ab J + sum_k dW/d(ab)_k
     Hess_q (ab)_k, the last a Hessian of the cheap geometric map only."""
-    from .jaxsetup import jax
+    from .jaxsetup import jax, jit
     import jax.numpy as jnp
 
     from .forms import reduced_energy
@@ -205,7 +205,7 @@ def _hessian_kernel(model: str, material: str, rhob1: float):
         grad = J.T @ gW + P * jax.grad(load)(q)
         return grad, J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
 
-    return jax.jit(jax.vmap(hessian, in_axes=(0, 0, None, None, None)))
+    return jit(jax.vmap(hessian, in_axes=(0, 0, None, None, None)))
 
 
 def _local_map(n: int) -> np.ndarray:
@@ -479,13 +479,13 @@ def _kink_hessian():
     """Hessian of the interface condition c = x_s^r . (x_s^l x x_o) / (|x_s^l| |x_s^r| r) in
     (x_s^l, x_s^r, x_o): c = 0 says that the tangent plane does not fold at an interface
     (its linear part is the rotation condition of :func:`_constraints`)."""
-    from .jaxsetup import jax
+    from .jaxsetup import jax, jit
     import jax.numpy as jnp
 
     def c(v, scale):
         return _dot(v[3:6], _cross(v[0:3], v[6:9])) / scale
 
-    return jax.jit(jax.hessian(c))
+    return jit(jax.hessian(c))
 
 
 def _interface_terms(base: _Base, D) -> list:

@@ -1,4 +1,5 @@
-"""JAX set-up for the compiled modules: float64, and the persistent compilation cache (CLI).
+"""JAX set-up for the compiled modules: float64, the XLA options of every program, and the
+persistent compilation cache (CLI).
 
 Double precision is required (continuation and fold refinement work at 1e-10); importing
 any compiled part of shellbvp turns on ``jax_enable_x64``, the one global JAX setting the
@@ -27,6 +28,7 @@ configured in JAX itself is left alone.
 from __future__ import annotations
 
 import os
+from functools import lru_cache
 
 import jax
 
@@ -34,6 +36,13 @@ from .cache import cache_dir
 
 #: compile times below this (s) are not worth a disk entry
 PERSISTENT_CACHE_MIN_SECONDS = 0.5
+#: XLA options of every program the package compiles (:func:`jit`, :class:`shellbvp.packed.
+#: Packed`): XLA:CPU's older code generator (fusion emitters off) compiles the relaxed cap's
+#: 40-node collocation program in 3.4-3.6 s instead of 5.7-5.9 s and the plane-strain one in
+#: 1.3-1.4 s instead of 2.6 s, and runs them 1-5 % slower (195 against 193 us, 84 against
+#: 81 us; one pinned core, jaxlib 0.10.2, outputs equal to 4e-12): compilation is most of a
+#: first kappa_s, the programs' run time under half of a later one
+COMPILER_OPTIONS = (("xla_cpu_use_fusion_emitters", False),)
 
 jax.config.update("jax_enable_x64", True)
 
@@ -58,6 +67,26 @@ def use_persistent_cache(default: bool = False) -> bool:
     return True
 
 
+@lru_cache(maxsize=None)
+def supported_options(options: tuple = COMPILER_OPTIONS) -> dict:
+    """``options`` ((name, value) pairs) as the ``compiler_options`` of a compilation, or {}
+    where this jaxlib does not know one of them (probed once, on a one-operation program:
+    XLA refuses an unknown option with an error, which would otherwise surface at a
+    solver's first call)."""
+    if not options:
+        return {}
+    try:
+        jax.jit(lambda x: x + 1.0).lower(1.0).compile(compiler_options=dict(options))
+    except Exception:   # JaxRuntimeError "No such compile option", or an older signature
+        return {}
+    return dict(options)
+
+
+def jit(fn, **kwargs):
+    """``jax.jit`` with the package's XLA options (:data:`COMPILER_OPTIONS`, where known)."""
+    return jax.jit(fn, compiler_options=supported_options(), **kwargs)
+
+
 use_persistent_cache()
 
-__all__ = ["jax", "use_persistent_cache"]
+__all__ = ["jax", "jit", "use_persistent_cache", "supported_options", "COMPILER_OPTIONS"]

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .jaxsetup import jax
+from .jaxsetup import jax, supported_options
 
 import jax.numpy as jnp  # noqa: E402
 
@@ -83,7 +83,8 @@ class Packed:
         n = int(sum(math.prod(sh) for sh in shapes))
         exported, leaves, skeleton = self._exported(n, shapes, dtypes)
         program = jax.jit(exported.call).trace(
-            jax.ShapeDtypeStruct((n,), np.float64)).lower().compile()
+            jax.ShapeDtypeStruct((n,), np.float64)).lower().compile(
+                compiler_options=supported_options())
         tree = jax.tree_util.tree_structure(skeleton)
         ends = np.cumsum([math.prod(sh) for sh, _ in leaves])
         layout = [(e - math.prod(sh), e, tuple(sh), np.dtype(dt))

@@ -226,7 +226,7 @@ def _point_kernels(model, material, rhob1):
     ``phi_kernel`` -> (gradient (n, 4), Hessian (n, 4, 4), d gradient / dp (n, 4) along the
     fields' and the pressure's derivatives dF, dP); ``w_kernel`` -> gradient and Hessian of
     W in X = (lam1, lam2, k1, k2). Compiled once per material, at CHUNK points."""
-    from ..jaxsetup import jax
+    from ..jaxsetup import jax, jit
     import jax.numpy as jnp
 
     from ..compiled import energy_function
@@ -255,8 +255,8 @@ def _point_kernels(model, material, rhob1):
 
     one = (0, 0, 0, None, None)
     w_grad, w_hess = jax.vmap(jax.grad(w), one), jax.vmap(jax.hessian(w), one)
-    return (jax.jit(phi_kernel),
-            jax.jit(lambda X, kb1, kb2, mat, h: (w_grad(X, kb1, kb2, mat, h),
+    return (jit(phi_kernel),
+            jit(lambda X, kb1, kb2, mat, h: (w_grad(X, kb1, kb2, mat, h),
                                                  w_hess(X, kb1, kb2, mat, h))))
 
 
@@ -264,7 +264,7 @@ def _point_kernels(model, material, rhob1):
 def _fields_program(fields, pressure, pieces, n_c):
     """(s (E, k), p, c) -> fields (E, k, 4), their p-derivative, pressure P and dP/dp, the
     fields called piece by piece (``pieces``: elements per piece); small, compiled per mesh."""
-    from ..jaxsetup import jax
+    from ..jaxsetup import jax, jit
     import jax.numpy as jnp
 
     from ..scene import call_fields
@@ -285,7 +285,7 @@ def _fields_program(fields, pressure, pieces, n_c):
         (F, P), (dF, dP) = jax.jvp(lambda p_: values(s, p_, c), (p,), (1.0,))
         return F, dF, P, dP
 
-    return jax.jit(with_derivative)
+    return jit(with_derivative)
 
 
 def _constraint_terms(U, L, h):

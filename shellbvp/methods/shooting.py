@@ -114,7 +114,7 @@ class Shooting:
 def _compiled(vector_field, adaptive):
     import diffrax
 
-    from ..jaxsetup import jax
+    from ..jaxsetup import jax, jit
 
     def solve_segment(piece, y0, s0, s1, p, lam, h, c, tol, saveat):
         # ``tol`` is the PID tolerance (adaptive) or the number of fixed steps (not adaptive);
@@ -147,8 +147,8 @@ def _compiled(vector_field, adaptive):
         return ts, ys, fs
 
     ax = (0, 0, 0, 0, None, None, None, None, None)
-    return (jax.jit(jax.vmap(flow_and_sens, in_axes=ax)),
-            jax.jit(jax.vmap(dense, in_axes=ax + (None,))))
+    return (jit(jax.vmap(flow_and_sens, in_axes=ax)),
+            jit(jax.vmap(dense, in_axes=ax + (None,))))
 
 
 class ShootingSystem:
