@@ -7,7 +7,9 @@ its runner ``run_auto.py`` and ``bin/``: analytic
 Jacobians, NCOL = 4, pseudo-arclength from kappa = 0 to the first limit point). For every
 model and accuracy class tol in {1e-6, 1e-8, 1e-10, 1e-12}:
 
-* shellbvp: ``snap_curvature(..., tol=tol)`` in steady state (after one call to compile);
+* shellbvp: ``snap_curvature(..., tol=tol)`` in steady state (after one call to compile),
+  twice per round: the first call (the figure of merit) after AUTO's process and the other
+  rows, the second straight after it (warm: the caches hold its programs, as in a sweep);
 * AUTO-07p: the whole process (start, read its constants, continue, write its files; AUTO
   has no warm-up) at the smallest NTST of ``NTST_CANDIDATES`` whose error is at most tol
   (NTST 8 / 10 / 20 / 40 relaxed here), errors against the same reference;
@@ -107,25 +109,32 @@ def auto_meshes(auto, refs):
 
 
 def side_by_side(rows, repeats, auto, meshes):
-    """{(model, tol): (shellbvp times, AUTO times, last result)}: one call of each per round,
-    shellbvp and AUTO alternating, after one shellbvp call per row to compile."""
+    """{(model, tol): (shellbvp times, its warm times, AUTO times, last result)}: per round
+    and row, shellbvp, then AUTO, alternating, after one shellbvp call per row to compile.
+    The first are the figure of merit: each call follows AUTO's process and another row's
+    programs, which have taken the processor's caches. The warm times are a second call
+    straight after the first, as in a loop of kappa_s (a sweep): the same work with the
+    caches holding its own programs and data."""
     from shellbvp.problems import cap_eversion as ce
 
     for model, tol in rows:
         ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
     ours = {row: [] for row in rows}
+    warm = {row: [] for row in rows}
     peer = {row: [] for row in rows}
     last = {}
     for _ in range(repeats):
         for model, tol in rows:
-            t = time.perf_counter()
-            last[model, tol] = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-            ours[model, tol].append(time.perf_counter() - t)
+            for times in (ours, warm):
+                t = time.perf_counter()
+                last[model, tol] = ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+                times[model, tol].append(time.perf_counter() - t)
             ntst = meshes.get((model, tol), (None,))[0]     # none without AUTO
             if ntst is not None:
                 r = auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=ntst)
                 peer[model, tol].append(r["wall_s"] if r["ok"] else math.nan)
-    return {row: (np.array(ours[row]), np.array(peer[row]), last[row]) for row in rows}
+    return {row: (np.array(ours[row]), np.array(warm[row]), np.array(peer[row]), last[row])
+            for row in rows}
 
 
 def breakdown(rows, repeats):
@@ -280,21 +289,22 @@ def main(argv=None):
     for model in MODELS:
         print(model)
         for tol in tols:
-            ours, peer, r = timed[model, tol]
+            ours, warm, peer, r = timed[model, tol]
             ntst, auto_err = meshes.get((model, tol), (None, math.nan))
             err = abs(r.kappa_s - refs[model].kappa_s)
-            ms, auto_ms = 1e3 * float(np.median(ours)), \
+            ms, warm_ms, auto_ms = 1e3 * float(np.median(ours)), 1e3 * float(np.median(warm)), \
                 (1e3 * float(np.median(peer)) if peer.size else math.nan)
             ratio = ms / auto_ms
             rows.append([model, tol, ms, 1e3 * ours.min(), 1e3 * ours.max(), r.error_estimate,
                          err, r.stats["fold"]["resolution"]["nodes"], r.stats["evaluations"],
                          ntst if ntst else "", auto_ms, auto_err, ratio,
                          "" if math.isnan(ratio) else ("met" if ratio <= GOAL else "missed"),
-                         repeats, r.kappa_s])
-            print(f"  tol {tol:.0e}: shellbvp {ms:6.1f} ms, error {err:.1e} (estimate "
-                  f"{r.error_estimate:.1e}), N = {rows[-1][7]}, {rows[-1][8]} evaluations | "
-                  f"AUTO-07p NTST {ntst}: {auto_ms:6.1f} ms, error {auto_err:.1e} | "
-                  f"ratio {ratio:.2f} ({rows[-1][13] or 'no peer'})")
+                         repeats, r.kappa_s, warm_ms, warm_ms / auto_ms])
+            print(f"  tol {tol:.0e}: shellbvp {ms:6.1f} ms (warm {warm_ms:4.1f}), error "
+                  f"{err:.1e} (estimate {r.error_estimate:.1e}), N = {rows[-1][7]}, "
+                  f"{rows[-1][8]} evaluations | AUTO-07p NTST {ntst}: {auto_ms:6.1f} ms, "
+                  f"error {auto_err:.1e} | ratio {ratio:.2f} ({rows[-1][13] or 'no peer'}; "
+                  f"warm {warm_ms / auto_ms:.2f})")
     parts = breakdown([(m, t) for m in MODELS for t in tols], repeats)
     brows = []
     print("where the time of one kappa_s goes (ms, medians; the floor is kernel + LU, "
@@ -312,7 +322,7 @@ def main(argv=None):
               ["model", "tol", "median_ms", "min_ms", "max_ms", "error_estimate",
                "error_vs_reference", "final_nodes", "evaluations", "auto_ntst",
                "auto_median_ms", "auto_error_vs_reference", "ratio", "goal_0.5", "rounds",
-               "kappa_s_R0"], rows)
+               "kappa_s_R0", "warm_median_ms", "warm_ratio"], rows)
 
     if not a.no_startup:
         srows = []
