@@ -37,11 +37,11 @@ from .cache import cache_dir
 #: compile times below this (s) are not worth a disk entry
 PERSISTENT_CACHE_MIN_SECONDS = 0.5
 #: XLA options of every program the package compiles (:func:`jit`, :class:`shellbvp.packed.
-#: Packed`): XLA:CPU's older code generator (fusion emitters off) compiles the relaxed cap's
-#: 40-node collocation program in 3.4-3.6 s instead of 5.7-5.9 s and the plane-strain one in
-#: 1.3-1.4 s instead of 2.6 s, and runs them 1-5 % slower (195 against 193 us, 84 against
-#: 81 us; one pinned core, jaxlib 0.10.2, outputs equal to 4e-12): compilation is most of a
-#: first kappa_s, the programs' run time under half of a later one
+#: Packed`): XLA:CPU's older code generator (fusion emitters off). On the default cap it
+#: compiles the programs of a first kappa_s in 0.58 of the default's time relaxed (4.0
+#: against 6.9 s) and 0.52 in plane strain (1.4 against 2.7 s), and the programs run
+#: within 2 % of the default's (kappa_s equal to 3e-14; figures/bench_codegen.py, one
+#: pinned core, jaxlib 0.10.2, medians of 5 fresh processes)
 COMPILER_OPTIONS = (("xla_cpu_use_fusion_emitters", False),)
 
 jax.config.update("jax_enable_x64", True)
