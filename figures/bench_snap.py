@@ -19,9 +19,10 @@ fall on both; the medians' ratio is the figure of merit (absolute times differ b
 between machines of one kind). The reference is shellbvp at tol 1e-12 on degrees from 56
 up, which no timed row uses; AUTO at NTST 40 agrees with it to ~2e-13.
 
-Start-up: the whole command ``shellbvp snap --model M`` in a fresh process with an empty
-cache folder (cold: symbolic derivation, tracing, XLA compilation) and again with it filled
-(warm), and the time of each phase in a cold and a warm process.
+Start-up: the whole command ``shellbvp snap --model M`` in fresh processes, each with an
+empty cache folder (cold: tracing and XLA compilation; the symbolic derivation ships with
+the package), and again with one filled (warm), ``STARTUP_RUNS`` of each, and the time of
+each phase in a cold and a warm process.
 
 Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threaded BLAS,
 XLA and OpenMP). Writes bench_snap.csv, bench_snap_breakdown.csv (where the steady-state
@@ -70,6 +71,8 @@ REFERENCE_NODES = 56
 NTST_CANDIDATES = (6, 7, 8, 9, 10, 12, 14, 16, 20, 24, 30, 40)
 #: the goal of the speed issue: shellbvp's median at most this fraction of AUTO's
 GOAL = 0.5
+#: fresh processes per model and cache state in the start-up timings (one with --quick)
+STARTUP_RUNS = 3
 INSTALL = ("AUTO-07p's runtime libraries: apt-get install -y libgfortran5 libgomp1 "
            "(Debian/Ubuntu); the executables: set SHELLBVP_AUTO07P to the folder holding "
            "run_auto.py and bin/")
@@ -326,12 +329,22 @@ def main(argv=None):
 
     if not a.no_startup:
         srows = []
+        runs = 1 if a.quick else STARTUP_RUNS
         for model in MODELS:
-            with tempfile.TemporaryDirectory() as d:
-                for cache in ("cold", "warm", "warm"):
+            walls = {"cold": [], "warm": []}
+            for _ in range(runs):   # each cold process with an empty cache folder of its own
+                with tempfile.TemporaryDirectory() as d:
                     wall, line = startup(model, d)
-                    srows.append([model, cache, "command", wall])
-                    print(f"start-up {model:>12s}, {cache} cache: {wall:5.1f} s  ({line})")
+                    walls["cold"].append(wall)
+            with tempfile.TemporaryDirectory() as d:      # warm: a folder filled once
+                startup(model, d)
+                for _ in range(runs):
+                    wall, line = startup(model, d)
+                    walls["warm"].append(wall)
+            for cache, w in walls.items():
+                srows += [[model, cache, "command", x] for x in w]
+                print(f"start-up {model:>12s}, {cache} cache: median {np.median(w):5.1f} s of "
+                      f"{len(w)} processes ({min(w):.1f}-{max(w):.1f} s)  ({line})")
             for cache in ("cold", "warm"):
                 with tempfile.TemporaryDirectory() as d:
                     if cache == "warm":
