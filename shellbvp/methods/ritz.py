@@ -257,7 +257,7 @@ def _point_kernels(model, material, rhob1):
     w_grad, w_hess = jax.vmap(jax.grad(w), one), jax.vmap(jax.hessian(w), one)
     return (jit(phi_kernel),
             jit(lambda X, kb1, kb2, mat, h: (w_grad(X, kb1, kb2, mat, h),
-                                                 w_hess(X, kb1, kb2, mat, h))))
+                                             w_hess(X, kb1, kb2, mat, h))))
 
 
 @lru_cache(maxsize=None)
