@@ -6,8 +6,9 @@ measures that choice against XLA's default on the default cap (Theta = pi/6, h0/
 lam = 1, tol 1e-8), relaxed and plane strain: each variant in a fresh process with no disk
 cache (nothing traced or compiled before), alternating the variants over the rounds, on one
 pinned core. Per process: the XLA compilation of the programs one kappa_s needs (the
-collocation program; compile calls only, tracing and lowering excluded), a call of the compiled program in steady state
-(with the packing of its arguments and outputs; median of 300 calls on the same arguments) and one kappa_s in steady state (median of 15), with its
+collocation program; compile calls only, tracing and lowering excluded), a call of the
+compiled program in steady state (with the packing of its arguments and outputs; median of
+300 calls on the same arguments) and one kappa_s in steady state (median of 15), with its
 value (the variants must agree to round-off). Writes bench_codegen.csv.
 
     python figures/bench_codegen.py [--quick] [--rounds 3]
