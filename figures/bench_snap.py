@@ -26,7 +26,8 @@ each phase in a cold and a warm process.
 
 Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threaded BLAS,
 XLA and OpenMP). Writes bench_snap.csv, bench_snap_breakdown.csv (where the steady-state
-time goes: compiled kernel, LU, host work; :func:`breakdown`), bench_snap_startup.csv,
+time goes: compiled kernel, LU, host work; :func:`breakdown`), bench_snap_kernel.csv (the
+kernel's calls replayed: :func:`kernel_anatomy`), bench_snap_startup.csv,
 bench_snap_fig3.csv and bench_snap.png. Where AUTO-07p or its runtime libraries are
 missing, says how to install them and times shellbvp alone.
 
@@ -170,6 +171,67 @@ def breakdown(rows, repeats):
     finally:
         for owner, name, f in kept:
             setattr(owner, name, f)
+
+
+#: the argument of the collocation program that starts the inner (lam1, k1) Newton at every
+#: node (:meth:`shellbvp.bvp.ShellBVP.collocate`), and where its roots come back
+INNER_START, NODAL_OUT, ROOTS = 7, 0, 5
+
+
+def kernel_anatomy(tol=1e-8, repeats=50):
+    """{model: (calls, as recorded ms, exact start ms, trivial us)}: the kernel calls of one
+    kappa_s replayed in steady state (medians of ``repeats`` per call), as recorded and
+    with the inner Newton started at its own roots (one inner step at every node: the
+    difference is the cost of the further inner steps), and a trivial compiled program
+    with the same input and output sizes (what calling XLA costs at all)."""
+    import jax
+    import jax.numpy as jnp
+
+    from shellbvp import packed
+    from shellbvp.problems import cap_eversion as ce
+
+    def median_us(f):
+        for _ in range(5):
+            f()
+        samples = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            f()
+            samples.append(time.perf_counter() - t)
+        return 1e6 * float(np.median(samples))
+
+    calls = []
+    original = packed.Packed.__call__
+
+    def recording(self, *args):
+        out = original(self, *args)
+        calls.append((self, args, out))
+        return out
+
+    out = {}
+    for model in MODELS:
+        ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+        calls.clear()
+        packed.Packed.__call__ = recording
+        try:
+            ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+        finally:
+            packed.Packed.__call__ = original
+        recorded = exact = 0.0
+        for owner, args, res in calls:
+            at_roots = list(args)
+            at_roots[INNER_START] = np.array(res[NODAL_OUT][ROOTS])
+            recorded += median_us(lambda: owner(*args))
+            exact += median_us(lambda: owner(*at_roots))
+        owner, args, res = calls[0]
+        n_in = sum(np.size(x) for x in args)
+        n_out = sum(np.size(x) for x in jax.tree_util.tree_leaves(res))
+        trivial = jax.jit(lambda x: jnp.zeros(n_out) + x[0]).lower(
+            jax.ShapeDtypeStruct((n_in,), np.float64)).compile()
+        x = np.zeros(n_in)
+        out[model] = (len(calls), 1e-3 * recorded, 1e-3 * exact,
+                      median_us(lambda: np.asarray(trivial(x))))
+    return out
 
 
 def _command():
@@ -318,6 +380,19 @@ def main(argv=None):
         brows.append([row[0], row[1], total, kernel, lu, total - kernel - lu, row[10], floor])
         print(f"  {row[0]:>12s} tol {row[1]:.0e}: {total:5.1f} = kernel {kernel:4.1f} + LU "
               f"{lu:4.1f} + host {total - kernel - lu:4.1f}; floor / AUTO {floor:.2f}")
+    anatomy = kernel_anatomy(repeats=20 if a.quick else 50)
+    print("the kernel calls of one kappa_s at tol 1e-8, replayed (ms; medians per call)")
+    arows = []
+    for model, (calls, recorded, exact, trivial) in anatomy.items():
+        arows.append([model, 1e-8, calls, recorded, exact, recorded - exact,
+                      1e3 * exact / calls, trivial])
+        print(f"  {model:>12s}: {calls} calls, {recorded:.2f} as recorded, {exact:.2f} with "
+              f"the inner Newton started at its roots (further inner steps "
+              f"{recorded - exact:.2f}); {1e3 * exact / calls:.0f} us a call at its roots; "
+              f"a trivial program of the same sizes {trivial:.0f} us")
+    write_csv(a.out / "bench_snap_kernel.csv",
+              ["model", "tol", "calls", "recorded_ms", "exact_start_ms", "further_inner_ms",
+               "exact_start_us_per_call", "trivial_program_us"], arows)
     write_csv(a.out / "bench_snap_breakdown.csv",
               ["model", "tol", "total_ms", "kernel_ms", "lu_ms", "host_ms", "auto_median_ms",
                "floor_ratio"], brows)
