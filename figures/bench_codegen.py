@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from _common import parser, write_csv
+from _common import HERE, parser, write_csv
 
 #: the child process: one variant ("package" or "default"), one model; prints one JSON line
 CHILD = r"""
@@ -40,19 +40,10 @@ spent, calls = {"compile": 0.0}, []
 
 
 import jax
-lowered_compile = jax.stages.Lowered.compile
-
-
-def timed_compile(self, *a, **k):
-    # every XLA compilation (tracing and lowering excluded)
-    t = time.perf_counter()
-    try:
-        return lowered_compile(self, *a, **k)
-    finally:
-        spent["compile"] += time.perf_counter() - t
-
-
-jax.stages.Lowered.compile = timed_compile
+sys.path.insert(0, sys.argv[3])
+from _common import clock
+# every XLA compilation (tracing and lowering excluded)
+lowered_compile = clock(jax.stages.Lowered, "compile", spent, "compile")
 call = P.Packed.__call__
 
 
@@ -86,7 +77,7 @@ print(json.dumps(dict(compile_s=spent["compile"], kernel_us=1e6 * float(np.media
 
 def child(variant, model):
     env = dict(os.environ, SHELLBVP_CACHE_DIR="off", SHELLBVP_JAX_CACHE="off")
-    out = subprocess.run([sys.executable, "-c", CHILD, variant, model], env=env, check=True,
+    out = subprocess.run([sys.executable, "-c", CHILD, variant, model, str(HERE)], env=env, check=True,
                          capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
