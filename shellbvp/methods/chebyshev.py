@@ -201,6 +201,7 @@ class ChebyshevSystem(NodalSystem):
         self.N = N
         self._PD = _resampled_derivative(N)
         self._Pm = resampling_matrix(N)
+        self._scaled = {}
 
     def interior(self, Y, p, nod, into=None):
         n, N = self.n, self.N
@@ -209,18 +210,28 @@ class ChebyshevSystem(NodalSystem):
         for i in range(self.P):
             res = Y[i] @ self._PD.T - L[i] * (nod.f[i] @ self._Pm.T)             # (n, N)
             # d res[c, j] / d Y[c', k] = delta_cc' PD[j, k] - L Pm[j, k] J[c, c', k], built
-            # in its final (c, j, c', k) layout (no transposed copy), in place where the
-            # Jacobian's block is given (a reshape that only splits axes is always a view)
-            shape = (n, N, n, N + 1)
-            blk = None if into is None else into[i].reshape(shape)
-            blk = np.multiply((-L[i] * self._Pm)[None, :, None, :], nod.J[i][:, None, :, :],
-                              out=blk)
-            for c in range(n):
-                blk[c, :, c, :] += self._PD
+            # in its final (c, j, (c', k)) layout (no transposed copy), in place where the
+            # Jacobian's block is given (a reshape that only splits axes is always a view):
+            # one product whose inner axis runs over all n (N + 1) columns of a row (10 us
+            # at N = 24, where the 4-d broadcast over (c, j, c', k) took 22 us), then PD
+            # added on the diagonal blocks c = c' through one strided view of them
+            blk = None if into is None else into[i].reshape(n, N, n * (N + 1))
+            blk = np.multiply(self._scaled_resampling(L[i]),
+                              nod.J[i].reshape(n, 1, n * (N + 1)), out=blk)
+            diagonal = np.einsum("cjck->cjk", blk.reshape(n, N, n, N + 1))   # a view
+            diagonal += self._PD
             out.append((res.ravel(), into[i] if into is not None else
                         blk.reshape(n * N, n * (N + 1)),
                         (-L[i] * (nod.fp[i] @ self._Pm.T)).ravel()))
         return out
+
+    def _scaled_resampling(self, length: float) -> np.ndarray:
+        """-length * Pm repeated once per component along the columns, (N, n (N + 1)): the
+        factor of column (c', k) in every row j of a piece's block (cached per length)."""
+        found = self._scaled.get(length)
+        if found is None:
+            found = self._scaled[length] = np.tile(-length * self._Pm, (1, self.n))
+        return found
 
     def parameter_derivatives(self, U, p, names=("theta", "material", "h")) -> dict:
         """dR/dx and dm/dx at (U, p) for the scene's x = ``"theta"`` (the edge moves, the
