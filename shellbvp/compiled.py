@@ -315,10 +315,20 @@ def _functions_of(W4, el):
         a = args(y, q_root, s, F, g, H, h)
         fy, fq = _arr(el["f_y"](*a)), _arr(el["f_q"](*a))
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
-        def tangent_jet():
-            return jax.jvp(lambda F_: f_and_G(y, q_root, s, F_, lam, h), (F,), (dF,))
+        # f and G along dF: W's gradient and its derivative along dF kept (each of f, df
+        # and dG fused its own copy of them), the generated expressions on top
+        def gradient_along():
+            def g_of(F_):
+                return jax.jacfwd(W4)(X_of(y, q_root, s, F_, h), F_[2], F_[3], lam, h)
+            return jax.jvp(g_of, (F,), (dF,))
 
-        (f, _), (df, dG) = materialised(tangent_jet, lam)
+        gF, dgF = materialised(gradient_along, lam)
+
+        def f_G(F_, g_):
+            a_ = args(y, q_root, s, F_, g_, zero44, h)
+            return _arr(el["f"](*a_)), _arr(el["G"](*a_))
+
+        (f, _), (df, dG) = jax.jvp(f_G, (F, gF), (dF, dgF))
         dq = -solve_2x2(Gq, jnp.concatenate([Gy, dG[:, None]], axis=1))
         J = fy + fq @ dq[:, :6]
         fp = df + fq @ dq[:, 6]
