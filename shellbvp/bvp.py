@@ -59,13 +59,14 @@ __all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", 
 POLE_OFFSET = 1e-4
 #: nodes are evaluated in chunks padded to one of these sizes (larger sets in chunks of the
 #: last), so that a change of resolution mostly reuses a compiled program (each costs
-#: seconds of compilation for a relaxed model): the Chebyshev degrees of a kappa_s at
-#: tol 1e-6 ... 1e-10 on the default cap (N = 24 ... 36, 25 ... 37 nodes) share the program
-#: of 40 (padding 25 nodes to 40 costs ~60 us per evaluation, a second program ~8 s once);
+#: seconds of compilation for a relaxed model): every Chebyshev degree of a kappa_s at
+#: tol 1e-6 ... 1e-8 on the default cap (the branch at N = 16, the ladder at 20 ... 36,
+#: 17 ... 37 nodes) shares the program of 40 (padding 17 nodes to 40 costs ~45 us per
+#: evaluation relaxed; a program of 24 took ~3 s more of a first run's compilation);
 #: geometric above, so that solve_bvp's ever-changing meshes reuse ~a dozen programs.
 #: (Fixed chunks of 16 or 24 nodes, dispatched together so that every degree runs on the
 #: same programs, cost 30-50 % more per kappa_s: each compiled call has a fixed cost.)
-CHUNKS = (8, 16, 24, 40, 56, 72, 96, 128, 192, 256, 384, 512)
+CHUNKS = (8, 16, 40, 56, 72, 96, 128, 192, 256, 384, 512)
 #: largest relative distance between a state and the states of a warm start that is carried
 #: to another discretisation with it (:meth:`ShellBVP.carried_hint`)
 HINT_CARRY = 1e-3

@@ -157,10 +157,10 @@ def _resolvable(scene) -> int:
 
 
 def bracketing_nodes(scene) -> int:
-    """Degree at which a branch is followed only to bracket its folds: one rung of 8 below
+    """Degree at which a branch is followed only to bracket its folds: 16 below
     :func:`default_nodes` (at least 16); every fold is then re-located on the ladder from
     :func:`fold_nodes`, so the coarse branch costs no accuracy."""
-    return max(16, _resolvable(scene) - 8)
+    return max(16, _resolvable(scene) - 16)
 
 
 def fold_nodes(scene, tol: float) -> int:
