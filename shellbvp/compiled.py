@@ -204,10 +204,11 @@ def materialised(fn, runtime):
 
     XLA fuses elementwise producers into every consumer, and a W-jet is all multiplies and
     adds, which it counts as cheap to repeat: each consumer of a plain jet (G and G_q in an
-    inner Newton step; f_y, f_q, G_q, G_y and the Legendre test at the root) got its own
-    fused copy of the jet's arithmetic, five or six per node. Kept, the collocation kernel
-    of the default relaxed cap (40 nodes, inner Newton at its roots) takes 152 instead of
-    206 us a call, and its programs compile faster; plane strain 99 instead of 112 us.
+    inner Newton step; f_y, f_q, G_q, G_y and the Legendre test at the root; f, df and dG
+    of W's gradient along the fields) got its own fused copy of the jet's arithmetic. Kept,
+    the collocation kernel of the default relaxed cap (40 nodes, inner Newton at its roots,
+    one pinned core) takes 143 instead of 206 us a call, and its programs compile faster;
+    plane strain 94 instead of 112 us.
     Under vmap with ``runtime`` unbatched (the material parameter of every call here) the
     conditional stays one; batched, JAX turns it into a select of both branches, the same
     values without the saving."""
