@@ -38,10 +38,11 @@ from .cache import cache_dir
 PERSISTENT_CACHE_MIN_SECONDS = 0.5
 #: XLA options of every program the package compiles (:func:`jit`, :class:`shellbvp.packed.
 #: Packed`): XLA:CPU's older code generator (fusion emitters off). On the default cap it
-#: compiles the programs of a first kappa_s in 0.58 of the default's time relaxed (4.0
-#: against 6.9 s) and 0.52 in plane strain (1.4 against 2.7 s), and the programs run
-#: within 2 % of the default's (kappa_s equal to 3e-14; figures/bench_codegen.py, one
-#: pinned core, jaxlib 0.10.2, medians of 5 fresh processes)
+#: compiles the programs of a first kappa_s in 0.63 of the default's time relaxed (2.2
+#: against 3.5 s) and 0.51 in plane strain (1.1 against 2.1 s), and the collocation
+#: program runs in 0.66 and 0.86 of the default's time (150 against 227 us relaxed;
+#: kappa_s equal to 3e-14; figures/bench_codegen.py, one pinned core, jaxlib 0.10.2,
+#: medians of 5 fresh processes)
 COMPILER_OPTIONS = (("xla_cpu_use_fusion_emitters", False),)
 
 jax.config.update("jax_enable_x64", True)
