@@ -200,7 +200,7 @@ def point_functions(model, material, rhob1, metric) -> PointFunctions:
 def materialised(fn, runtime):
     """fn() computed once, its values kept in memory: the outputs of a conditional on a
     value known only at run time (``runtime``, a scalar that is finite in every real call;
-    nan where it is not, as fn would give), which XLA cannot fuse into their consumers.
+    nan where it is not), which XLA cannot fuse into their consumers.
 
     XLA fuses elementwise producers into every consumer, and a W-jet is all multiplies and
     adds, which it counts as cheap to repeat: each consumer of a plain jet (G and G_q in an
