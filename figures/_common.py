@@ -27,6 +27,18 @@ def clock(owner, name: str, spent: dict, key: str):
     return f
 
 
+def wall_times(f, repeat: int, warmup: int = 0) -> list[float]:
+    """Wall times (s) of ``repeat`` calls of ``f()``, after ``warmup`` untimed calls."""
+    for _ in range(warmup):
+        f()
+    out = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        f()
+        out.append(time.perf_counter() - t)
+    return out
+
+
 def parser(description: str) -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--quick", action="store_true", help="coarse run (a few points) for a smoke test")

@@ -28,20 +28,19 @@ from _common import HERE, parser, write_csv
 
 #: the child process: one variant ("package" or "default"), one model; prints one JSON line
 CHILD = r"""
-import json, math, sys, time
+import json, math, sys
+import jax
 import numpy as np
 import shellbvp.packed as P
 from shellbvp.problems import cap_eversion as ce
+
+sys.path.insert(0, sys.argv[3])
+from _common import clock, wall_times
 
 variant, model = sys.argv[1], sys.argv[2]
 if variant == "default":
     P.supported_options = lambda: {}
 spent, calls = {"compile": 0.0}, []
-
-
-import jax
-sys.path.insert(0, sys.argv[3])
-from _common import clock
 # every XLA compilation (tracing and lowering excluded)
 lowered_compile = clock(jax.stages.Lowered, "compile", spent, "compile")
 call = P.Packed.__call__
@@ -58,18 +57,8 @@ r = ce.snap_curvature(*args, model=model, tol=1e-8)
 P.Packed.__call__ = call
 jax.stages.Lowered.compile = lowered_compile
 owner, a = calls[len(calls) // 2]
-for _ in range(30):
-    owner(*a)
-runs = []
-for _ in range(300):
-    t = time.perf_counter()
-    owner(*a)
-    runs.append(time.perf_counter() - t)
-snaps = []
-for _ in range(15):
-    t = time.perf_counter()
-    r = ce.snap_curvature(*args, model=model, tol=1e-8)
-    snaps.append(time.perf_counter() - t)
+runs = wall_times(lambda: owner(*a), 300, warmup=30)
+snaps = wall_times(lambda: ce.snap_curvature(*args, model=model, tol=1e-8), 15)
 print(json.dumps(dict(compile_s=spent["compile"], kernel_us=1e6 * float(np.median(runs)),
                       kappa_s_ms=1e3 * float(np.median(snaps)), kappa_s=r.kappa_s)))
 """
@@ -77,8 +66,8 @@ print(json.dumps(dict(compile_s=spent["compile"], kernel_us=1e6 * float(np.media
 
 def child(variant, model):
     env = dict(os.environ, SHELLBVP_CACHE_DIR="off", SHELLBVP_JAX_CACHE="off")
-    out = subprocess.run([sys.executable, "-c", CHILD, variant, model, str(HERE)], env=env, check=True,
-                         capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-c", CHILD, variant, model, str(HERE)], env=env,
+                         check=True, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 

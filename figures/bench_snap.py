@@ -59,7 +59,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from _common import HERE, clock, finish, parser, pyplot, write_csv  # noqa: E402
+from _common import HERE, clock, finish, parser, pyplot, wall_times, write_csv  # noqa: E402
 
 THETA, H0, LAM = math.pi / 6, 0.01, 1.0
 MODELS = ("relaxed", "plane_strain")
@@ -191,14 +191,7 @@ def kernel_anatomy(tol=1e-8, repeats=50):
     from shellbvp.problems import cap_eversion as ce
 
     def median_us(f):
-        for _ in range(5):
-            f()
-        samples = []
-        for _ in range(repeats):
-            t = time.perf_counter()
-            f()
-            samples.append(time.perf_counter() - t)
-        return 1e6 * float(np.median(samples))
+        return 1e6 * float(np.median(wall_times(f, repeats, warmup=5)))
 
     calls = []
     original = packed.Packed.__call__

@@ -14,20 +14,10 @@ from __future__ import annotations
 
 import math
 import statistics
-import time
 
-from _common import parser, write_csv
+from _common import parser, wall_times as _times, write_csv
 import shellbvp
 from shellbvp.problems import cap_eversion as ce
-
-
-def _times(f, repeat):
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        f()
-        out.append(time.perf_counter() - t)
-    return out
 
 
 def main(argv=None):
