@@ -16,7 +16,9 @@ model and accuracy class tol in {1e-6, 1e-8, 1e-10, 1e-12}:
 
 alternating, one call of each per round over all rows, so that the machine's slow spells
 fall on both; the medians' ratio is the figure of merit (absolute times differ by 1.5x
-between machines of one kind). The reference is shellbvp at tol 1e-12 on degrees from 56
+between machines of one kind), with its 95 % bootstrap interval over the rounds: the goal
+is "met" where the whole interval is at most 0.5, "missed" where it is all above, and
+"within noise" where it straddles 0.5. The reference is shellbvp at tol 1e-12 on degrees from 56
 up, which no timed row uses; AUTO at NTST 40 agrees with it to ~2e-13.
 
 Start-up: the whole command ``shellbvp snap --model M`` in fresh processes, each with an
@@ -31,7 +33,7 @@ kernel's calls replayed: :func:`kernel_anatomy`), bench_snap_startup.csv,
 bench_snap_fig3.csv and bench_snap.png. Where AUTO-07p or its runtime libraries are
 missing, says how to install them and times shellbvp alone.
 
-    python figures/bench_snap.py [--quick] [--repeats 7] [--no-startup] [--no-fig3]
+    python figures/bench_snap.py [--quick] [--repeats 11] [--no-startup] [--no-fig3]
 """
 
 from __future__ import annotations
@@ -72,6 +74,9 @@ REFERENCE_NODES = 56
 NTST_CANDIDATES = (6, 7, 8, 9, 10, 12, 14, 16, 20, 24, 30, 40)
 #: the goal of the speed issue: shellbvp's median at most this fraction of AUTO's
 GOAL = 0.5
+#: the interval of a ratio of medians: this central fraction of its bootstrap over the
+#: rounds, each round resampled whole (shellbvp's and AUTO's calls of one round together)
+LEVEL, RESAMPLES = 0.95, 4000
 #: fresh processes per model and cache state in the start-up timings (one with --quick)
 STARTUP_RUNS = 3
 INSTALL = ("AUTO-07p's runtime libraries: apt-get install -y libgfortran5 libgomp1 "
@@ -110,6 +115,25 @@ def auto_meshes(auto, refs):
             ntst = next((n for n in NTST_CANDIDATES if errors[model, n] <= tol), None)
             chosen[model, tol] = (ntst, errors.get((model, ntst), math.nan))
     return chosen
+
+
+def ratio_interval(ours, peer, level=LEVEL, resamples=RESAMPLES, seed=0):
+    """(low, high): the central ``level`` interval of median(ours) / median(peer) under the
+    bootstrap of the rounds (a round's two times drawn together: they shared the machine's
+    spell). Deterministic (``seed``)."""
+    ours, peer = np.asarray(ours, float), np.asarray(peer, float)
+    idx = np.random.default_rng(seed).integers(0, ours.size, (resamples, ours.size))
+    ratios = np.median(ours[idx], axis=1) / np.median(peer[idx], axis=1)
+    tail = 50.0 * (1.0 - level)
+    return tuple(float(x) for x in np.percentile(ratios, [tail, 100.0 - tail]))
+
+
+def verdict(low, high, goal=GOAL) -> str:
+    """'met' where the whole interval of the ratio is at most ``goal``, 'missed' where it is
+    all above, 'within noise' where it straddles the goal (the rounds cannot tell)."""
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return ""
+    return "met" if high <= goal else "missed" if low > goal else "within noise"
 
 
 def side_by_side(rows, repeats, auto, meshes):
@@ -227,6 +251,63 @@ def kernel_anatomy(tol=1e-8, repeats=50):
     return out
 
 
+def host_layers(nodes=(20, 32), repeats=200):
+    """{(model, N): {layer: us}}: one Newton iteration at the default cap's fold on degree
+    N, replayed in steady state (medians of ``repeats``), timed layer by layer from the
+    inside out: the compiled program alone on its packed vector (``program``), its call
+    with the packing of the arguments and unpacking of the outputs (``Packed``), the BVP's
+    collocation call (warm start of the inner Newton, admissibility checks, nodal arrays:
+    ``collocate``), the discrete system's evaluation (collocation blocks, assembly of R, J,
+    dR/dp: ``evaluate``), the bordered LU alone (``LU``) and the whole iteration
+    (``newton``: evaluation, LU, solve and the iteration's bookkeeping). Their differences
+    are the host work of each layer."""
+    from shellbvp import packed
+    from shellbvp.methods.chebyshev import ChebyshevSystem
+    from shellbvp.problems import cap_eversion as ce
+
+    newton_module = importlib.import_module("shellbvp.continuation.newton")
+
+    def median_us(f):
+        return 1e6 * float(np.median(wall_times(f, repeats, warmup=20)))
+
+    out = {}
+    for model in MODELS:
+        fold = ce.snap_curvature(THETA, H0, LAM, model=model, tol=1e-8).fold
+        for N in nodes:
+            system = ChebyshevSystem(fold.system.bvp, N)
+            res = newton_module.newton(system, fold.system.transfer(fold.U, fold.p, system),
+                                       fold.p, 1.0, 0.0, fold.monitor, tol=1e-12)
+            U, p, m = res.U, res.p, res.m
+            Y, bvp = system.split(U), system.bvp
+            calls = []
+            original = packed.Packed.__call__
+
+            def recording(self, *args):
+                calls.append((self, args))
+                return original(self, *args)
+
+            packed.Packed.__call__ = recording
+            try:
+                bvp.collocate(system.s, Y, p, system._hint)
+            finally:
+                packed.Packed.__call__ = original
+            owner, args = calls[-1]
+            program = owner._programs[tuple(map(np.shape, args))][0]
+            flat = np.concatenate(list(map(np.ravel, args)), dtype=np.float64)
+            R, J, Rp = system.evaluate(U, p)
+            _, gm = system.monitor(U)
+            out[model, N] = {
+                "program": median_us(lambda: np.asarray(program(flat))),
+                "Packed": median_us(lambda: owner(*args)),
+                "collocate": median_us(lambda: bvp.collocate(system.s, Y, p, system._hint)),
+                "evaluate": median_us(lambda: system.evaluate(U, p)),
+                "LU": median_us(lambda: newton_module.bordered_lu(J, Rp, gm, 0.0)),
+                # a tolerance the first update meets: one evaluation, one LU
+                "newton": median_us(lambda: newton_module.newton(system, U, p, 1.0, 0.0, m,
+                                                                 tol=1e-3))}
+    return out
+
+
 def _command():
     exe = shutil.which("shellbvp")
     return [exe] if exe else [sys.executable, "-m", "shellbvp.cli"]
@@ -319,7 +400,7 @@ def fig3_set(tol=1e-10, quick=False):
 
 def main(argv=None):
     p = parser(__doc__.splitlines()[0])
-    p.add_argument("--repeats", type=int, default=7, help="rounds per row (default 7)")
+    p.add_argument("--repeats", type=int, default=11, help="rounds per row (default 11)")
     p.add_argument("--no-startup", action="store_true", help="skip the fresh-process timings")
     p.add_argument("--no-fig3", action="store_true", help="skip the Fig. 3 set")
     a = p.parse_args(argv)
@@ -353,16 +434,16 @@ def main(argv=None):
             ms, warm_ms, auto_ms = 1e3 * float(np.median(ours)), 1e3 * float(np.median(warm)), \
                 (1e3 * float(np.median(peer)) if peer.size else math.nan)
             ratio = ms / auto_ms
+            low, high = ratio_interval(ours, peer) if peer.size else (math.nan, math.nan)
             rows.append([model, tol, ms, 1e3 * ours.min(), 1e3 * ours.max(), r.error_estimate,
                          err, r.stats["fold"]["resolution"]["nodes"], r.stats["evaluations"],
-                         ntst if ntst else "", auto_ms, auto_err, ratio,
-                         "" if math.isnan(ratio) else ("met" if ratio <= GOAL else "missed"),
-                         repeats, r.kappa_s, warm_ms, warm_ms / auto_ms])
+                         ntst if ntst else "", auto_ms, auto_err, ratio, verdict(low, high),
+                         repeats, r.kappa_s, warm_ms, warm_ms / auto_ms, low, high])
             print(f"  tol {tol:.0e}: shellbvp {ms:6.1f} ms (warm {warm_ms:4.1f}), error "
                   f"{err:.1e} (estimate {r.error_estimate:.1e}), N = {rows[-1][7]}, "
                   f"{rows[-1][8]} evaluations | AUTO-07p NTST {ntst}: {auto_ms:6.1f} ms, "
-                  f"error {auto_err:.1e} | ratio {ratio:.2f} ({rows[-1][13] or 'no peer'}; "
-                  f"warm {warm_ms / auto_ms:.2f})")
+                  f"error {auto_err:.1e} | ratio {ratio:.2f} ({low:.2f}-{high:.2f}: "
+                  f"{rows[-1][13] or 'no peer'}; warm {warm_ms / auto_ms:.2f})")
     parts = breakdown([(m, t) for m in MODELS for t in tols], repeats)
     brows = []
     print("where the time of one kappa_s goes (ms, medians; the floor is kernel + LU, "
@@ -383,6 +464,22 @@ def main(argv=None):
               f"the inner Newton started at its roots (further inner steps "
               f"{recorded - exact:.2f}); {1e3 * exact / calls:.0f} us a call at its roots; "
               f"a trivial program of the same sizes {trivial:.0f} us")
+    layers = host_layers(repeats=50 if a.quick else 200)
+    print("one Newton iteration at the fold, layer by layer (us, medians; the host work of "
+          "a layer is its time less the layer inside it)")
+    lrows = []
+    for (model, N), t in layers.items():
+        host = {"Packed": t["Packed"] - t["program"],
+                "collocate": t["collocate"] - t["Packed"],
+                "evaluate": t["evaluate"] - t["collocate"],
+                "newton": t["newton"] - t["evaluate"] - t["LU"]}
+        lrows.append([model, N, t["program"], t["LU"], host["Packed"], host["collocate"],
+                      host["evaluate"], host["newton"], t["newton"]])
+        print(f"  {model:>12s} N = {N}: {t['newton']:.0f} = program {t['program']:.0f} + LU "
+              f"{t['LU']:.0f} + host " + " + ".join(f"{k} {v:.0f}" for k, v in host.items()))
+    write_csv(a.out / "bench_snap_host.csv",
+              ["model", "nodes", "program_us", "lu_us", "packed_host_us", "collocate_host_us",
+               "evaluate_host_us", "newton_host_us", "iteration_us"], lrows)
     write_csv(a.out / "bench_snap_kernel.csv",
               ["model", "tol", "calls", "recorded_ms", "exact_start_ms", "further_inner_ms",
                "exact_start_us_per_call", "trivial_program_us"], arows)
@@ -393,7 +490,7 @@ def main(argv=None):
               ["model", "tol", "median_ms", "min_ms", "max_ms", "error_estimate",
                "error_vs_reference", "final_nodes", "evaluations", "auto_ntst",
                "auto_median_ms", "auto_error_vs_reference", "ratio", "goal_0.5", "rounds",
-               "kappa_s_R0", "warm_median_ms", "warm_ratio"], rows)
+               "kappa_s_R0", "warm_median_ms", "warm_ratio", "ratio_low", "ratio_high"], rows)
 
     if not a.no_startup:
         srows = []
