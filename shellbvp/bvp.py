@@ -227,7 +227,7 @@ class ShellBVP(Derivatives, MeridianStates):
         inner Newton; changes cost only). Raises ConvergenceError where the inner Newton fails
         and ValueError for inadmissible stimulus fields.
         """
-        s, Y, q0 = self._nodal_args(s, Y, hint, p)
+        s, Y, _, q0 = self._nodal_args(s, Y, hint, p)
         out = self._flat(self._k.nodal, s, Y, p, (q0,))
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
@@ -235,13 +235,15 @@ class ShellBVP(Derivatives, MeridianStates):
         return self._nodal_result(s, Y, p, out)
 
     def _nodal_args(self, s, Y, hint, p):
+        """(s, Y, the nodal states flattened (P m, 6), the start of the inner Newton)."""
         s, Y = np.asarray(s, dtype=float), np.asarray(Y, dtype=float)
         P, m = s.shape
+        yf = flat_nodes(Y)
         if isinstance(hint, Hint) and hint.q.shape == (P * m, 2):
             # the previous root carried to the new iterate: the inner Newton then starts
             # O(|change|^2) from its root
-            return s, Y, carried_roots(hint, flat_nodes(Y), p)
-        return s, Y, self._start(s, Y, p)
+            return s, Y, yf, carried_roots(hint, yf, p)
+        return s, Y, yf, self._start(s, Y, p)
 
     def _start(self, s, Y, p):
         """A start for the inner Newton at every node when no previous iterate is known:
@@ -287,7 +289,7 @@ class ShellBVP(Derivatives, MeridianStates):
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
         y(theta) = Y[-1, :, -1], and :meth:`monitor` there: the same values, in one compiled
         call when all nodes fit in one chunk."""
-        s, Y, q0 = self._nodal_args(s, Y, hint, p)
+        s, Y, yf, q0 = self._nodal_args(s, Y, hint, p)
         P, m = s.shape
         piece, chunks = self._layout(P, m)
         if len(chunks) > 1:
@@ -295,7 +297,6 @@ class ShellBVP(Derivatives, MeridianStates):
                               self.monitor(Y[0, :, 0], Y[-1, :, -1]))
         sc = self.scene
         ((_, _, idx),) = chunks
-        yf = flat_nodes(Y)
 
         def call(q):
             nod, bc, mon = self._k.collocate(

@@ -30,7 +30,7 @@ class Derivatives:
         this gives the derivative of a discrete system in the scene's theta, h and material.
         ``geometry_only``: the derivative in s alone (zeros in the others; compiles ~5x
         faster)."""
-        s, Y, q0 = self._nodal_args(s, Y, hint, p)
+        s, Y, _, q0 = self._nodal_args(s, Y, hint, p)
         P, m = s.shape
         kernel = self._k.geometry_sensitivity if geometry_only else self._k.sensitivity
         f, df = self._flat(kernel, s, Y, p,

@@ -217,8 +217,8 @@ class Scene:
         axis, are all admissible (finite, g > 0, g = 1 without metric stimulus): the cheap
         test of every evaluation; :meth:`check_fields` names what fails."""
         g = F[..., :2]
-        return bool(np.isfinite(F).all() and g.min() > 0
-                    and (self.metric or (g.min() == 1 and g.max() == 1)))
+        # g == 1 (no metric stimulus) or g > 0 is False for nan: one pass over g, one over F
+        return bool(((g > 0) if self.metric else (g == 1)).all() and np.isfinite(F).all())
 
     def check_fields(self, out, piece, p):
         """Raise a named ValueError unless the fields (g1, g2, kb1, kb2[, pressure]) are

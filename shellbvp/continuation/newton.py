@@ -132,7 +132,7 @@ class Stopping:
 
 def relative_step(d, U, p) -> float:
     """The size of a bordered Newton update d = (dU, dp) relative to the unknowns (U, p)."""
-    return max(float(np.max(np.abs(d[:-1]))) / (1.0 + float(np.max(np.abs(U)))),
+    return max(float(np.abs(d[:-1]).max()) / (1.0 + float(np.abs(U).max())),
                abs(d[-1]) / (1.0 + abs(p)))
 
 
