@@ -18,8 +18,8 @@ alternating, one call of each per round over all rows, so that the machine's slo
 fall on both; the medians' ratio is the figure of merit (absolute times differ by 1.5x
 between machines of one kind), with its 95 % bootstrap interval over the rounds: the goal
 is "met" where the whole interval is at most 0.5, "missed" where it is all above, and
-"within noise" where it straddles 0.5. The reference is shellbvp at tol 1e-12 on degrees from 56
-up, which no timed row uses; AUTO at NTST 40 agrees with it to ~2e-13.
+"within noise" where it straddles 0.5. The reference is shellbvp at tol 1e-12 on degrees
+from 56 up, which no timed row uses; AUTO at NTST 40 agrees with it to ~2e-13.
 
 Start-up: the whole command ``shellbvp snap --model M`` in fresh processes, each with an
 empty cache folder (cold: tracing and XLA compilation; the symbolic derivation ships with
@@ -29,8 +29,9 @@ each phase in a cold and a warm process.
 Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threaded BLAS,
 XLA and OpenMP). Writes bench_snap.csv, bench_snap_breakdown.csv (where the steady-state
 time goes: compiled kernel, LU, host work; :func:`breakdown`), bench_snap_kernel.csv (the
-kernel's calls replayed: :func:`kernel_anatomy`), bench_snap_startup.csv,
-bench_snap_fig3.csv and bench_snap.png. Where AUTO-07p or its runtime libraries are
+kernel's calls replayed: :func:`kernel_anatomy`), bench_snap_host.csv (one Newton iteration
+layer by layer: :func:`host_layers`), bench_snap_startup.csv, bench_snap_fig3.csv and
+bench_snap.png. Where AUTO-07p or its runtime libraries are
 missing, says how to install them and times shellbvp alone.
 
     python figures/bench_snap.py [--quick] [--repeats 11] [--no-startup] [--no-fig3]
