@@ -198,6 +198,32 @@ def breakdown(rows, repeats):
             setattr(owner, name, f)
 
 
+def median_us(f, repeats, warmup):
+    """Median wall time of f() in us over ``repeats`` calls after ``warmup``."""
+    return 1e6 * float(np.median(wall_times(f, repeats, warmup=warmup)))
+
+
+def packed_calls(run):
+    """[(program, args, outputs)]: every call of a compiled program
+    (:class:`shellbvp.packed.Packed`) that ``run()`` makes, recorded for replay."""
+    from shellbvp import packed
+
+    calls = []
+    original = packed.Packed.__call__
+
+    def recording(self, *args):
+        out = original(self, *args)
+        calls.append((self, args, out))
+        return out
+
+    packed.Packed.__call__ = recording
+    try:
+        run()
+    finally:
+        packed.Packed.__call__ = original
+    return calls
+
+
 #: the argument of the collocation program that starts the inner (lam1, k1) Newton at every
 #: node (:meth:`shellbvp.bvp.ShellBVP.collocate`), and where its roots come back
 INNER_START, NODAL_OUT, ROOTS = 7, 0, 5
@@ -212,35 +238,18 @@ def kernel_anatomy(tol=1e-8, repeats=50):
     import jax
     import jax.numpy as jnp
 
-    from shellbvp import packed
     from shellbvp.problems import cap_eversion as ce
-
-    def median_us(f):
-        return 1e6 * float(np.median(wall_times(f, repeats, warmup=5)))
-
-    calls = []
-    original = packed.Packed.__call__
-
-    def recording(self, *args):
-        out = original(self, *args)
-        calls.append((self, args, out))
-        return out
 
     out = {}
     for model in MODELS:
         ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-        calls.clear()
-        packed.Packed.__call__ = recording
-        try:
-            ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
-        finally:
-            packed.Packed.__call__ = original
+        calls = packed_calls(lambda: ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol))
         recorded = exact = 0.0
         for owner, args, res in calls:
             at_roots = list(args)
             at_roots[INNER_START] = np.array(res[NODAL_OUT][ROOTS])
-            recorded += median_us(lambda: owner(*args))
-            exact += median_us(lambda: owner(*at_roots))
+            recorded += median_us(lambda: owner(*args), repeats, 5)
+            exact += median_us(lambda: owner(*at_roots), repeats, 5)
         owner, args, res = calls[0]
         n_in = sum(np.size(x) for x in args)
         n_out = sum(np.size(x) for x in jax.tree_util.tree_leaves(res))
@@ -248,7 +257,7 @@ def kernel_anatomy(tol=1e-8, repeats=50):
             jax.ShapeDtypeStruct((n_in,), np.float64)).compile()
         x = np.zeros(n_in)
         out[model] = (len(calls), 1e-3 * recorded, 1e-3 * exact,
-                      median_us(lambda: np.asarray(trivial(x))))
+                      median_us(lambda: np.asarray(trivial(x)), repeats, 5))
     return out
 
 
@@ -262,15 +271,10 @@ def host_layers(nodes=(20, 32), repeats=200):
     dR/dp: ``evaluate``), the bordered LU alone (``LU``) and the whole iteration
     (``newton``: evaluation, LU, solve and the iteration's bookkeeping). Their differences
     are the host work of each layer."""
-    from shellbvp import packed
     from shellbvp.methods.chebyshev import ChebyshevSystem
     from shellbvp.problems import cap_eversion as ce
 
     newton_module = importlib.import_module("shellbvp.continuation.newton")
-
-    def median_us(f):
-        return 1e6 * float(np.median(wall_times(f, repeats, warmup=20)))
-
     out = {}
     for model in MODELS:
         fold = ce.snap_curvature(THETA, H0, LAM, model=model, tol=1e-8).fold
@@ -280,32 +284,24 @@ def host_layers(nodes=(20, 32), repeats=200):
                                        fold.p, 1.0, 0.0, fold.monitor, tol=1e-12)
             U, p, m = res.U, res.p, res.m
             Y, bvp = system.split(U), system.bvp
-            calls = []
-            original = packed.Packed.__call__
-
-            def recording(self, *args):
-                calls.append((self, args))
-                return original(self, *args)
-
-            packed.Packed.__call__ = recording
-            try:
-                bvp.collocate(system.s, Y, p, system._hint)
-            finally:
-                packed.Packed.__call__ = original
-            owner, args = calls[-1]
-            program = owner._programs[tuple(map(np.shape, args))][0]
-            flat = np.concatenate(list(map(np.ravel, args)), dtype=np.float64)
+            owner, args, _ = packed_calls(
+                lambda: bvp.collocate(system.s, Y, p, system._hint))[-1]
+            program, _, _, flat = owner.prepare(*args)
             R, J, Rp = system.evaluate(U, p)
             _, gm = system.monitor(U)
+
+            def median(f):
+                return median_us(f, repeats, 20)
+
             out[model, N] = {
-                "program": median_us(lambda: np.asarray(program(flat))),
-                "Packed": median_us(lambda: owner(*args)),
-                "collocate": median_us(lambda: bvp.collocate(system.s, Y, p, system._hint)),
-                "evaluate": median_us(lambda: system.evaluate(U, p)),
-                "LU": median_us(lambda: newton_module.bordered_lu(J, Rp, gm, 0.0)),
+                "program": median(lambda: np.asarray(program(flat))),
+                "Packed": median(lambda: owner(*args)),
+                "collocate": median(lambda: bvp.collocate(system.s, Y, p, system._hint)),
+                "evaluate": median(lambda: system.evaluate(U, p)),
+                "LU": median(lambda: newton_module.bordered_lu(J, Rp, gm, 0.0)),
                 # a tolerance the first update meets: one evaluation, one LU
-                "newton": median_us(lambda: newton_module.newton(system, U, p, 1.0, 0.0, m,
-                                                                 tol=1e-3))}
+                "newton": median(lambda: newton_module.newton(system, U, p, 1.0, 0.0, m,
+                                                              tol=1e-3))}
     return out
 
 

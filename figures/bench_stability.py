@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import statistics
 
-from _common import parser, wall_times as _times, write_csv
+from _common import parser, wall_times, write_csv
 import shellbvp
 from shellbvp.problems import cap_eversion as ce
 
@@ -24,10 +24,10 @@ def main(argv=None):
     a = parser(__doc__.splitlines()[0]).parse_args(argv)
     repeat = 3 if a.quick else 7
     eq = ce.equilibrium(2.0, math.pi / 6, 0.01)
-    first = _times(lambda: shellbvp.modes(eq, range(0, 21)), 1)[0]
-    modes = _times(lambda: shellbvp.modes(eq, range(0, 21)), repeat)
-    first_b = _times(lambda: ce.first_instability(math.pi / 6, 0.01), 1)[0]
-    inst = _times(lambda: ce.first_instability(math.pi / 6, 0.01), repeat)
+    first = wall_times(lambda: shellbvp.modes(eq, range(0, 21)), 1)[0]
+    modes = wall_times(lambda: shellbvp.modes(eq, range(0, 21)), repeat)
+    first_b = wall_times(lambda: ce.first_instability(math.pi / 6, 0.01), 1)[0]
+    inst = wall_times(lambda: ce.first_instability(math.pi / 6, 0.01), repeat)
     rows = [["modes n=0..20, one equilibrium", first, statistics.median(modes), min(modes),
              max(modes), repeat],
             ["first_instability, default cap", first_b, statistics.median(inst), min(inst),

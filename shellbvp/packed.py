@@ -103,14 +103,21 @@ class Packed:
                   for (sh, dt), e in zip(leaves, ends)]
         return program, tree, layout
 
-    def dispatch(self, *args):
-        """Start the computation (JAX dispatches asynchronously) and return a handle for
-        :meth:`collect`: several calls can be in flight while the host prepares the next."""
+    def prepare(self, *args):
+        """(compiled program, output tree, output layout, the arguments packed into one
+        float64 vector): everything a call does before running the program (compiling it
+        on the first call with these shapes)."""
         key = tuple(map(np.shape, args))    # a call site passes the same dtypes every time
         if key not in self._programs:
             self._programs[key] = self._program(args)
         program, tree, layout = self._programs[key]
-        flat = np.concatenate([_flat(a) for a in args], dtype=np.float64)
+        return program, tree, layout, np.concatenate([_flat(a) for a in args],
+                                                     dtype=np.float64)
+
+    def dispatch(self, *args):
+        """Start the computation (JAX dispatches asynchronously) and return a handle for
+        :meth:`collect`: several calls can be in flight while the host prepares the next."""
+        program, tree, layout, flat = self.prepare(*args)
         return program(flat), tree, layout
 
     def __call__(self, *args):
