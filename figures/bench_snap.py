@@ -30,7 +30,8 @@ Pinned to one core (sched_setaffinity, inherited by AUTO's process; single-threa
 XLA and OpenMP). Writes bench_snap.csv, bench_snap_breakdown.csv (where the steady-state
 time goes: compiled kernel, LU, host work; :func:`breakdown`), bench_snap_kernel.csv (the
 kernel's calls replayed: :func:`kernel_anatomy`), bench_snap_host.csv (one Newton iteration
-layer by layer: :func:`host_layers`), bench_snap_startup.csv, bench_snap_fig3.csv and
+layer by layer: :func:`host_layers`), bench_snap_pause.csv (one call after a pause of the
+process: :func:`after_pause`), bench_snap_startup.csv, bench_snap_fig3.csv and
 bench_snap.png. Where AUTO-07p or its runtime libraries are
 missing, says how to install them and times shellbvp alone.
 
@@ -261,6 +262,43 @@ def kernel_anatomy(tol=1e-8, repeats=50):
     return out
 
 
+#: what runs between two shellbvp calls in :func:`after_pause` (AUTO's process is added
+#: where it runs): the calls back to back, a trivial process, and the process off the core
+PAUSES = (("back to back", None), ("/bin/true", "true"), ("sleep 20 ms", 0.02),
+          ("sleep 100 ms", 0.1))
+
+
+def after_pause(auto, meshes, tol=1e-6, repeats=15):
+    """{(model, what ran before): median ms of one kappa_s at ``tol``}: why the first call
+    of a round is slower than the warm one. Per round and model, one call after each of
+    ``PAUSES`` and after AUTO's process at the row's NTST, in turn: if a pause alone
+    (nothing else on the core) costs as much as AUTO's process, the first call's penalty is
+    the processor's caches and predictors refilled after the process was off the core, not
+    AUTO's use of them."""
+    from shellbvp.problems import cap_eversion as ce
+
+    pauses = list(PAUSES)
+    times = {}
+    for model in MODELS:
+        ntst = meshes.get((model, tol), (None,))[0]
+        befores = pauses + ([("AUTO-07p process", ntst)] if ntst is not None else [])
+        for what, _ in befores:
+            times[model, what] = []
+        ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+        for _ in range(repeats):
+            for what, arg in befores:
+                if what == "AUTO-07p process":
+                    auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=arg)
+                elif isinstance(arg, str):
+                    subprocess.run([shutil.which(arg) or "/bin/true"], check=False)
+                elif arg is not None:
+                    time.sleep(arg)
+                t = time.perf_counter()
+                ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
+                times[model, what].append(time.perf_counter() - t)
+    return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
+
+
 def host_layers(nodes=(20, 32), repeats=200):
     """{(model, N): {layer: us}}: one Newton iteration at the default cap's fold on degree
     N, replayed in steady state (medians of ``repeats``), timed layer by layer from the
@@ -474,6 +512,16 @@ def main(argv=None):
                       host["evaluate"], host["newton"], t["newton"]])
         print(f"  {model:>12s} N = {N}: {t['newton']:.0f} = program {t['program']:.0f} + LU "
               f"{t['LU']:.0f} + host " + " + ".join(f"{k} {v:.0f}" for k, v in host.items()))
+    paused = after_pause(auto, meshes, repeats=5 if a.quick else 15)
+    print("one kappa_s at tol 1e-6 after a pause (ms, medians): what the first call's "
+          "penalty is")
+    prow = []
+    for (model, what), ms in paused.items():
+        base = paused[model, "back to back"]
+        prow.append([model, 1e-6, what, ms, ms / base])
+        print(f"  {model:>12s} after {what:>16s}: {ms:5.2f} ({ms / base:.2f}x back to back)")
+    write_csv(a.out / "bench_snap_pause.csv",
+              ["model", "tol", "before", "median_ms", "over_back_to_back"], prow)
     write_csv(a.out / "bench_snap_host.csv",
               ["model", "nodes", "program_us", "lu_us", "packed_host_us", "collocate_host_us",
                "evaluate_host_us", "newton_host_us", "iteration_us"], lrows)
@@ -525,7 +573,9 @@ def main(argv=None):
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    for model, color in zip(MODELS, ("C0", "C1")):
+    # the tol labels of the first model to the right of its points, of the second (the
+    # faster, so further left) to the left of its own: where errors match they would overlap
+    for model, color, side in zip(MODELS, ("C0", "C1"), (1, -1)):
         sel = [r for r in rows if r[0] == model]
         ax.loglog([r[2] for r in sel], [max(r[6], 1e-16) for r in sel], "o-", color=color,
                   label=f"shellbvp, {model} (error)")
@@ -533,7 +583,8 @@ def main(argv=None):
                   mfc="none", label=f"shellbvp, {model} (estimate)")
         for r in sel:
             ax.annotate(f"tol {r[1]:.0e}", (r[2], max(r[6], 1e-16)), fontsize=6,
-                        xytext=(3, -8), textcoords="offset points")
+                        xytext=(4 * side, -8), textcoords="offset points",
+                        ha="left" if side > 0 else "right")
         peer = [r for r in sel if math.isfinite(r[10])]
         if peer:
             ax.loglog([r[10] for r in peer], [max(r[11], 1e-16) for r in peer], "x--",
@@ -541,6 +592,8 @@ def main(argv=None):
             for r in peer:
                 ax.annotate(f"NTST {r[9]}", (r[10], max(r[11], 1e-16)), fontsize=6,
                             xytext=(3, 3), textcoords="offset points")
+    # room on the left for the second model's labels
+    ax.set_xlim(left=0.75 * min(r[2] for r in rows))
     ax.set_xlabel("wall time per kappa_s [ms] (one pinned core, median)")
     ax.set_ylabel("|kappa_s R0 error|")
     ax.set_title("Theta = pi/6, h0/R0 = 0.01, lam = 1, CG: shellbvp (steady state) and "
