@@ -266,9 +266,11 @@ def kernel_anatomy(tol=1e-8, repeats=50):
 #: where it runs): the calls back to back, a trivial process, and the process off the core
 PAUSES = (("back to back", None), ("/bin/true", "true"), ("sleep 20 ms", 0.02),
           ("sleep 100 ms", 0.1))
+#: the accuracy class of those calls
+PAUSE_TOL = 1e-6
 
 
-def after_pause(auto, meshes, tol=1e-6, repeats=15):
+def after_pause(auto, meshes, tol=PAUSE_TOL, repeats=15):
     """{(model, what ran before): median ms of one kappa_s at ``tol``}: why the first call
     of a round is slower than the warm one. Per round and model, one call after each of
     ``PAUSES`` and after AUTO's process at the row's NTST, in turn: if a pause alone
@@ -277,11 +279,10 @@ def after_pause(auto, meshes, tol=1e-6, repeats=15):
     AUTO's use of them."""
     from shellbvp.problems import cap_eversion as ce
 
-    pauses = list(PAUSES)
     times = {}
     for model in MODELS:
         ntst = meshes.get((model, tol), (None,))[0]
-        befores = pauses + ([("AUTO-07p process", ntst)] if ntst is not None else [])
+        befores = list(PAUSES) + ([("AUTO-07p process", ntst)] if ntst is not None else [])
         for what, _ in befores:
             times[model, what] = []
         ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
@@ -513,12 +514,12 @@ def main(argv=None):
         print(f"  {model:>12s} N = {N}: {t['newton']:.0f} = program {t['program']:.0f} + LU "
               f"{t['LU']:.0f} + host " + " + ".join(f"{k} {v:.0f}" for k, v in host.items()))
     paused = after_pause(auto, meshes, repeats=5 if a.quick else 15)
-    print("one kappa_s at tol 1e-6 after a pause (ms, medians): what the first call's "
-          "penalty is")
+    print(f"one kappa_s at tol {PAUSE_TOL:.0e} after a pause (ms, medians): what the first "
+          f"call's penalty is")
     prow = []
     for (model, what), ms in paused.items():
         base = paused[model, "back to back"]
-        prow.append([model, 1e-6, what, ms, ms / base])
+        prow.append([model, PAUSE_TOL, what, ms, ms / base])
         print(f"  {model:>12s} after {what:>16s}: {ms:5.2f} ({ms / base:.2f}x back to back)")
     write_csv(a.out / "bench_snap_pause.csv",
               ["model", "tol", "before", "median_ms", "over_back_to_back"], prow)
