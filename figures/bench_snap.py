@@ -264,8 +264,10 @@ def kernel_anatomy(tol=1e-8, repeats=50):
 
 #: what runs between two shellbvp calls in :func:`after_pause` (AUTO's process is added
 #: where it runs): the calls back to back, a trivial process, and the process off the core
-PAUSES = (("back to back", None), ("/bin/true", "true"), ("sleep 20 ms", 0.02),
-          ("sleep 100 ms", 0.1))
+PAUSES = (("back to back", lambda: None),
+          ("/bin/true", lambda: subprocess.run(["/bin/true"], check=False)),
+          ("sleep 20 ms", lambda: time.sleep(0.02)),
+          ("sleep 100 ms", lambda: time.sleep(0.1)))
 #: the accuracy class of those calls
 PAUSE_TOL = 1e-6
 
@@ -282,18 +284,16 @@ def after_pause(auto, meshes, tol=PAUSE_TOL, repeats=15):
     times = {}
     for model in MODELS:
         ntst = meshes.get((model, tol), (None,))[0]
-        befores = list(PAUSES) + ([("AUTO-07p process", ntst)] if ntst is not None else [])
+        befores = list(PAUSES)
+        if ntst is not None:
+            befores.append(("AUTO-07p process", lambda: auto.run(
+                model, theta=THETA, lam=LAM, h=H0, ntst=ntst)))
         for what, _ in befores:
             times[model, what] = []
         ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
         for _ in range(repeats):
-            for what, arg in befores:
-                if what == "AUTO-07p process":
-                    auto.run(model, theta=THETA, lam=LAM, h=H0, ntst=arg)
-                elif isinstance(arg, str):
-                    subprocess.run([shutil.which(arg) or "/bin/true"], check=False)
-                elif arg is not None:
-                    time.sleep(arg)
+            for what, pause in befores:
+                pause()
                 t = time.perf_counter()
                 ce.snap_curvature(THETA, H0, LAM, model=model, tol=tol)
                 times[model, what].append(time.perf_counter() - t)
