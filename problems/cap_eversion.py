@@ -119,9 +119,10 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     10 per rung from the method's rtol, or from tol where the method leaves rtol free, the
     branch followed at ``BRACKET_RTOL`` unless the method sets ``bracket_rtol``;
     collocation: every interval halved); that change, with the round-off floor and the
-    fold's location error, is the error estimate. Continuation takes long steps (:meth:`ContinuationOptions.to_first_fold`)
-    unless ``options`` are given. ``gradient=True`` adds the exact derivatives of kappa_s in
-    Theta, h and the material parameter (``SnapResult.gradient``; spectral method only), by
+    fold's location error, is the error estimate. Continuation takes long steps
+    (:meth:`ContinuationOptions.to_first_fold`) unless ``options`` are given.
+    ``gradient=True`` adds the exact derivatives of kappa_s in Theta, h and the material
+    parameter (``SnapResult.gradient``; spectral method only), by
     implicit differentiation of the fold: for optimisation and inverse design."""
     if gradient and not _default_spectral(method):
         raise ValueError(f"gradient=True needs method='spectral', got method={method!r}")

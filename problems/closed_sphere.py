@@ -9,8 +9,8 @@ target area is fixed, so the energy is proportional to W and the equilibrium is 
 dW/dw (computed by complex-step differentiation, exact to round-off) continuously connected
 to w = 0 at kappa = 0.
 
-The paper's expansions, which the tests and the docs' validation page compare with the symbolic series
-(:func:`series`):
+The paper's expansions, which the tests and the docs' validation page compare with the
+symbolic series (:func:`series`):
     plane strain: w/R0 = (1 - lam)/(24 (1 + lam)) (kappa h0)^2 + O((kappa h0)^3),
     relaxed:      w/R0 = 3 h lam (lam + 2)/(h^2 (10 lam^2 + lam - 2) + 12 (lam + 2)^2) (kappa h0)
                          + O((kappa h0)^2).
@@ -134,7 +134,8 @@ def main(argv=None) -> int:
         prog="python -m problems.closed_sphere",
         description="Homogeneous radius change w/R0 of a closed sphere under the curvature "
                     "stimulus kappa (Taffetani & Pezzulla, Section 5.3).")
-    p.add_argument("--kappa", type=float, default=1.0, help="curvature stimulus kappa R0 (default 1)")
+    p.add_argument("--kappa", type=float, default=1.0,
+                   help="curvature stimulus kappa R0 (default 1)")
     p.add_argument("--h", type=float, default=0.01, help="h0/R0 in (0, 1) (default 0.01)")
     p.add_argument("--lam", type=float, default=10.0, help="lambda*/mu* > 0 (default 10)")
     p.add_argument("--model", default="relaxed", choices=["plane_strain", "relaxed"])

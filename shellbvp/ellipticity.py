@@ -14,7 +14,8 @@ import numpy as np
 
 from .errors import ConvergenceError
 
-__all__ = ["legendre_form", "ellipticity", "legendre_along", "elliptic_point", "stall_reason", "LEGENDRE_LOST"]
+__all__ = ["legendre_form", "ellipticity", "legendre_along", "elliptic_point", "stall_reason",
+           "LEGENDRE_LOST"]
 
 
 def legendre_form(X, g, H):

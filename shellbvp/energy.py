@@ -2,7 +2,8 @@
 
 Public functions :func:`energy_density` and :func:`energy_terms` evaluate, for the principal
 state (stretches relative to the target metric, principal and target curvatures, in
-units of 1/R0; see :mod:`shellbvp.reduction`), the energy per unit target area, per shear modulus mu*, per unit thickness
+units of 1/R0; see :mod:`shellbvp.reduction`), the energy per unit target area, per shear
+modulus mu*, per unit thickness
 
     W = w_s + h**2/12 * w_b        (h = h0/R0),
 
@@ -64,7 +65,8 @@ def _validate(state, h, lam, model, material, rhob, exact, nu=0.5):
     if material == "koiter":
         checks.check_finite("nu", nu)
         if not -1.0 < float(np.real(nu)) < 1.0:
-            raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio; 0.5 incompressible), got {nu!r}")
+            raise ValueError(f"nu must lie in (-1, 1) (Poisson ratio; 0.5 incompressible), "
+                             f"got {nu!r}")
         if exact:
             raise ValueError("exact=True is not available for material='koiter' (a reference "
                              "model, not a reduction of a 3D energy)")

@@ -1,4 +1,5 @@
-"""Euler-Lagrange equations of the reduced axisymmetric energy, derived with sympy (paper Section 4).
+"""Euler-Lagrange equations of the reduced axisymmetric energy, derived with sympy (paper
+Section 4).
 
 Kinematics (R0 = 1, s the meridional angle of the reference sphere, target metric
 abar = diag(g1^2, g2^2 sin^2 s)):

@@ -8,7 +8,8 @@ same reduced energy for arbitrary symmetric 2x2 forms, from the same 3D densitie
 through-thickness kinematics (normal fibres, thickness maps phi(Z), phib(Z)):
 
     G(Z)    = a (I - phi S)^2,       S    = a^-1 b       (shape operator),
-    Gbar(Z) = abar (I - phib Sb)^2,  Sb   = abar^-1 bbar  (bbar abar^-1 bbar the target's third form),
+    Gbar(Z) = abar (I - phib Sb)^2,  Sb   = abar^-1 bbar
+              (bbar abar^-1 bbar the target's third form),
     I1 = tr(Gbar^-1 G) + (phi'/phib')^2,   I3 = det(G) / det(Gbar) (phi'/phib')^2,
     dV = phib' det(I - phib Sb) dZ dA_target,
 

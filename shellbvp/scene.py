@@ -188,7 +188,8 @@ class Scene:
         b = np.asarray(self.breaks, dtype=float)
         if b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0 or b[-1] >= self.theta
                        or not np.all(np.isfinite(b))):
-            raise ValueError(f"breaks must increase strictly inside (0, theta), got {self.breaks!r}")
+            raise ValueError(f"breaks must increase strictly inside (0, theta), "
+                             f"got {self.breaks!r}")
         object.__setattr__(self, "breaks", tuple(float(x) for x in b))
         c = np.asarray(self.field_parameters, dtype=float) \
             if isinstance(self.field_parameters, (tuple, list, np.ndarray)) else None

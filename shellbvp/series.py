@@ -46,7 +46,8 @@ def stationary_series(
     x, p = sp.symbols("x p", real=True)
     family = tuple(sp.sympify(e) for e in state(x, p))
     if len(family) != 6:
-        raise ValueError(f"state must return 6 expressions (lam1, lam2, k1, k2, kb1, kb2), got {len(family)}")
+        raise ValueError(f"state must return 6 expressions (lam1, lam2, k1, k2, kb1, kb2), "
+                         f"got {len(family)}")
     k = cache.key("stationary_series", sp.srepr(family), order, model, material,
                   inspect.getsource(stationary_series), inspect.getsource(R))
     return cache.memo(k, lambda: _series(family, x, p, order, model, material))

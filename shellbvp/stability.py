@@ -14,9 +14,9 @@ Clenshaw-Curtis quadrature with r from spectral integration, and its Hessian is 
 The constraints (regular apex theta = s theta', continuity of theta at interfaces, and for a
 clamped edge theta(Theta) = Theta and r(Theta) = sin Theta) enter through the Hessian of the
 Lagrangian on their tangent space, with multipliers from the gradient (least squares). The
-eigenvalues of that reduced Hessian against the quadrature mass of the surface are the discrete second
-variation: all positive at a stable equilibrium, one crossing zero at a fold or bifurcation.
-Where the reduced energy loses ellipticity (the Legendre condition,
+eigenvalues of that reduced Hessian against the quadrature mass of the surface are the
+discrete second variation: all positive at a stable equilibrium, one crossing zero at a fold
+or bifurcation. Where the reduced energy loses ellipticity (the Legendre condition,
 :mod:`shellbvp.ellipticity`) the continuum second variation is unbounded below: a negative
 eigenvalue appears whose value grows and whose mode narrows as the resolution grows.
 """

@@ -17,8 +17,8 @@ first-order system scales it). The discrete system is R = grad L = 0 for the Lag
 L = E + 2 pi int (h^2/12) f (r' - Lambda cos theta) ds, its Jacobian the Hessian of L,
 both exact (JAX, per quadrature point, assembled through the elements' fixed linear maps
 into a sparse symmetric matrix; the point kernel is compiled once per material, at a fixed
-number of points, and serves every degree, mesh and scene). It plugs into the same continuation, fold location and
-refinement ladder as every other method.
+number of points, and serves every degree, mesh and scene). It plugs into the same
+continuation, fold location and refinement ladder as every other method.
 
 What it does not need:
 
@@ -700,9 +700,10 @@ class RitzSystem:
         values, ~1 for a stiff mode, dimensionless; the elements graded toward a singular
         apex are so short that any mass weighted by the area is singular in double
         precision, while the signs, and so the stability, do not depend on the scaling).
-        Modes scaled to a largest nodal value of 1. All positive: stable. A :class:`shellbvp.stability.SecondVariation` (theta
-        and Lambda components at the element nodes ``s``; ``nodes`` is the degree per
-        element; ``projected_gradient`` the gradient's norm on that space)."""
+        Modes scaled to a largest nodal value of 1. All positive: stable. A
+        :class:`shellbvp.stability.SecondVariation` (theta and Lambda components at the
+        element nodes ``s``; ``nodes`` is the degree per element; ``projected_gradient`` the
+        gradient's norm on that space)."""
         from scipy.linalg import eigh, null_space
 
         from ..stability import SecondVariation
