@@ -519,9 +519,13 @@ def main(argv=None):
         print("at the same accuracy: AUTO-07p at the smallest NTST whose error is at most "
               "the error shellbvp delivers (second pass)")
         for row in mrows:
-            print(f"  {row[0]:>12s} tol {row[1]:.0e}: shellbvp error {row[2]:.1e}, "
-                  f"{row[5]:5.1f} ms | AUTO NTST {row[3]} error {row[4]:.1e}, {row[6]:5.1f} ms "
-                  f"| ratio {row[7]:.2f} ({row[8]:.2f}-{row[9]:.2f}: {row[10]})")
+            head = f"  {row[0]:>12s} tol {row[1]:.0e}: shellbvp error {row[2]:.1e}"
+            if row[3] == "":
+                print(f"{head} | AUTO-07p: {row[10]}")
+                continue
+            print(f"{head}, {row[5]:5.1f} ms | AUTO NTST {row[3]} error {row[4]:.1e}, "
+                  f"{row[6]:5.1f} ms | ratio {row[7]:.2f} ({row[8]:.2f}-{row[9]:.2f}: "
+                  f"{row[10]})")
         write_csv(a.out / "bench_snap_matched.csv",
                   ["model", "tol", "error_vs_reference", "auto_ntst", "auto_error_vs_reference",
                    "median_ms", "auto_median_ms", "ratio", "ratio_low", "ratio_high",
