@@ -227,12 +227,12 @@ class ShellBVP(Derivatives, MeridianStates):
         inner Newton; changes cost only). Raises ConvergenceError where the inner Newton fails
         and ValueError for inadmissible stimulus fields.
         """
-        s, Y, _, q0 = self._nodal_args(s, Y, hint, p)
+        s, Y, yf, q0 = self._nodal_args(s, Y, hint, p)
         out = self._flat(self._k.nodal, s, Y, p, (q0,))
         if not np.all(out[4]):         # a stale warm start: restart along the meridian
             q0 = self._start(s, Y, p)
             out = self._flat(self._k.nodal, s, Y, p, (q0,))
-        return self._nodal_result(s, Y, p, out)
+        return self._nodal_result(s, Y, p, out, yf)
 
     def _nodal_args(self, s, Y, hint, p):
         """(s, Y, the nodal states flattened (P m, 6), the start of the inner Newton)."""
@@ -275,7 +275,7 @@ class ShellBVP(Derivatives, MeridianStates):
         n = P * q_new.shape[1]
         return Hint(flat_nodes(Y_new), float(p), q_new.reshape(n, 2), np.zeros((n, 2, 7)))
 
-    def _nodal_result(self, s, Y, p, out, yf=None) -> Nodal:
+    def _nodal_result(self, s, Y, p, out, yf) -> Nodal:
         F, f, J, fp, ok, q, dq = out
         P, m = s.shape
         self.evaluations += 1
@@ -283,7 +283,7 @@ class ShellBVP(Derivatives, MeridianStates):
         f = f.reshape(P, m, 6).transpose(0, 2, 1)
         J = J.reshape(P, m, 6, 6).transpose(0, 2, 3, 1)
         fp = fp.reshape(P, m, 6).transpose(0, 2, 1)
-        return Nodal(f, J, fp, Hint(flat_nodes(Y) if yf is None else yf, float(p), q, dq))
+        return Nodal(f, J, fp, Hint(yf, float(p), q, dq))
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
         """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
