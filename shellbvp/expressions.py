@@ -39,6 +39,7 @@ key, quotes the offending piece with its position and says what is allowed.
 from __future__ import annotations
 
 import ast
+import functools
 import keyword
 import math
 import numbers
@@ -213,11 +214,11 @@ def _hint(symbols) -> str:
 
 def _too_deep(tree):
     """The first expression node of ``tree`` deeper than MAX_DEPTH (found without recursion),
-    or None."""
+    or None. A chain of n comparisons is n levels: it becomes n - 1 nested ``&``."""
     stack = [(tree, 0)]
     while stack:
         node, depth = stack.pop()
-        depth += isinstance(node, ast.expr)
+        depth += isinstance(node, ast.expr) + len(getattr(node, "ops", ())[1:])
         if depth > MAX_DEPTH:
             return node
         stack.extend((child, depth) for child in ast.iter_child_nodes(node))
@@ -388,7 +389,7 @@ class _Parser:
             operands = [self.value(node.left), *map(self.value, node.comparators)]
             pairs = [(_COMPARE[type(op)], a, b)
                      for op, a, b in zip(node.ops, operands, operands[1:])]
-            return pairs[0] if len(pairs) == 1 else ("logical_and", *pairs)
+            return functools.reduce(lambda a, b: ("logical_and", a, b), pairs)
         if isinstance(node, ast.BinOp) and type(node.op) in _LOGICAL:
             return (_LOGICAL[type(node.op)], self.condition(node.left),
                     self.condition(node.right))
