@@ -16,24 +16,29 @@ differentiated by JAX). The grammar, with ``symbol`` one of the names the caller
     function   := sin | cos | tan | exp | log | sqrt | abs | tanh | sinh | cosh
                 | arcsin | arccos | arctan                 (one argument)
                 | arctan2(y, x) | minimum(a, b) | maximum(a, b)
-    condition  := expression ("<" | "<=" | ">" | ">=") expression {("<" | ...) expression}
-                | "(" condition ")" ("&" | "|") "(" condition ")"
+    condition  := comparison | condition ("&" | "|") condition | "(" condition ")"
+    comparison := expression compare expression {compare expression}
+    compare    := "<" | "<=" | ">" | ">="
 
 Operators bind as in Python (``-x**2`` is ``-(x**2)``, ``2**-1`` is 0.5, ``**`` is
-right-associative) and a chained comparison ``0 < s < 1`` means ``(0 < s) & (s < 1)``. A
-number is an int or float literal; strings, booleans, complex numbers and ``None`` are not. A
-function takes positional arguments only, exactly as many as listed. Comparisons, ``&`` and
-``|`` occur only in the condition of ``where``. Nothing else is accepted: no attributes,
-subscripts, lambdas, comprehensions, keyword arguments, conditional or assignment
-expressions, f-strings or comments. The input is bounded: at most :data:`MAX_LENGTH`
-characters, and at most :data:`MAX_DEPTH` levels both of parentheses and of the expression
-tree (each operator, sign, call or comparison is a level), so that neither parsing nor
-evaluation can hang or exhaust the stack.
+right-associative, ``&`` binds tighter than ``|`` and both tighter than a comparison, so the
+comparisons they join are parenthesised: ``(s < 0.2) | (s > 0.8)``), and a chained
+comparison ``0 < s < 1`` means ``(0 < s) & (s < 1)``. A number is an int or float literal;
+strings, booleans, complex numbers and ``None`` are not. A function takes positional
+arguments only, exactly as many as listed. Comparisons, ``&`` and ``|`` occur only in the
+condition of ``where``. Nothing else is accepted: no attributes, subscripts, lambdas,
+comprehensions, keyword arguments, conditional or assignment expressions, f-strings or
+comments. The input is bounded: at most :data:`MAX_LENGTH` characters, and at most
+:data:`MAX_DEPTH` levels both of parentheses and of the expression tree (each operator, sign,
+call or comparison is a level), so that neither parsing nor evaluation can hang or exhaust
+the stack.
 
 Evaluation uses only functions of the array module on floats: every literal is a float before
 any arithmetic (``9**9**9`` gives inf, not hours of integer arithmetic), and integer inputs are
-converted to floats. Every refusal is a one-line :class:`ValueError` that names the scene-file
-key, quotes the offending piece with its position and says what is allowed.
+converted to floats. ``jax.grad`` through ``where`` differentiates both branches, so a branch
+that is not finite where it is not taken (``where(s > 0, sqrt(s), 0)`` at s < 0) gives a nan
+gradient, as in JAX itself. Every refusal is a one-line :class:`ValueError` that names the
+scene-file key, quotes the offending piece with its position and says what is allowed.
 """
 
 from __future__ import annotations
@@ -43,6 +48,7 @@ import functools
 import keyword
 import math
 import numbers
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -144,7 +150,7 @@ class Expression:
         return result
 
 
-def parse(text, symbols, *, key: str) -> Expression:
+def parse(text: str | float, symbols: Iterable[str], *, key: str) -> Expression:
     """Parse a scene-file value against the grammar of this module (never running it).
 
     Arguments:
