@@ -44,7 +44,8 @@ from .checks import check_finite, check_positive
 
 __all__ = ["Segment", "Plate", "Cylinder", "Cone", "Sphere", "Torus", "Ellipse", "Points",
            "Meridian", "ArclengthTable", "spherical_cap", "closed_sphere", "disc", "annulus",
-           "cylinder", "wrap_angle", "DEGREE", "UNIT_SPEED_TOL"]
+           "cylinder", "wrap_angle", "MEET_TOL", "AXIS_TOL", "RIGHT_ANGLE_TOL", "DEGREE",
+           "UNIT_SPEED_TOL", "UNIT_SPEED_FLOOR"]
 
 #: consecutive segments meet where their ends are this close, relative to the meridian's size
 MEET_TOL = 1e-9
@@ -59,8 +60,8 @@ SAMPLES = 64
 #: until its interpolant meets UNIT_SPEED_TOL
 DEGREE = 16
 #: accepted |d(r0, z0)/ds| - 1 of a tabulated segment, checked between the interpolation
-#: nodes of every piece (the derivative of an interpolant that is resolved to round-off
-#: carries ~ DEGREE**2 eps ~ 3e-14 of it)
+#: nodes of every piece (the derivative of an interpolant amplifies the round-off of its
+#: values up to ~ DEGREE**2 times: ~ 3e-14)
 UNIT_SPEED_TOL = 5e-14
 #: ... or this, where halving a piece no longer helps (round-off in a rapidly varying speed)
 UNIT_SPEED_FLOOR = 1e-12
@@ -68,8 +69,9 @@ UNIT_SPEED_FLOOR = 1e-12
 MAX_PIECES = 20000
 #: Gauss-Legendre rule of the arclength integrals (exact to round-off on a resolved piece)
 _GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(40)
-#: Chebyshev points x_j = cos(pi j / DEGREE) and the matrix of the discrete cosine transform
-#: values -> coefficients on them; test points halfway between them
+#: Chebyshev points x_j = cos(pi j / DEGREE), the matrix of the discrete cosine transform
+#: (values on them -> coefficients), and the points where a piece is tested (first kind,
+#: 2 DEGREE of them: between the nodes, where an interpolant's error peaks)
 _CHEB_X = np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE)
 _CHEB_DCT = np.cos(np.pi * np.outer(np.arange(DEGREE + 1), np.arange(DEGREE + 1)) / DEGREE)
 _CHEB_TEST = np.cos(np.pi * (np.arange(2 * DEGREE) + 0.5) / (2 * DEGREE))
@@ -437,7 +439,8 @@ class ArclengthTable:
     is a 40-point Gauss-Legendre quadrature; t at the DEGREE + 1 Chebyshev points in s is
     found by Newton's method on S(t) = s (to round-off), and the piece is halved until the
     interpolant's unit speed, |c'(t(s))| t'(s), is within :data:`UNIT_SPEED_TOL` of 1 at the
-    2 DEGREE points halfway between the nodes' angles. The segment then evaluates the exact
+    2 DEGREE Chebyshev points of the first kind (between the nodes). The segment then
+    evaluates the exact
     curve at t(s): r0, z0, theta0 and k1 are the curve's, consistent to round-off, and
     |d(r0, z0)/ds| - 1 is the interpolant's derivative error only.
 
@@ -490,9 +493,9 @@ class ArclengthTable:
         array: the sum t0 + tau is never formed, whose rounding ~ eps |t0| would show in a
         short piece).
 
-        A piece is halved until it meets :data:`UNIT_SPEED_TOL`, or kept where halving no
-        longer helps (the round-off floor of a rapidly varying speed) and it meets
-        :data:`UNIT_SPEED_FLOOR`.
+        A piece is halved until it meets :data:`UNIT_SPEED_TOL`, or until its interpolant
+        is resolved (its last coefficients at round-off, where halving no longer helps: the
+        round-off of a rapidly varying speed) and meets :data:`UNIT_SPEED_FLOOR`.
 
         Raises:
             ValueError: (naming ``what``) where the speed vanishes (a cusp) or more than
@@ -500,21 +503,21 @@ class ArclengthTable:
         """
         rows, s = [], 0.0
         for i, (ta, tb) in enumerate(zip(breaks[:-1], breaks[1:])):
-            todo = [(float(ta), float(tb), _fit_piece(speed, i, float(ta), float(tb)))]
+            todo = [(float(ta), float(tb))]
             while todo:
-                a, b, fit = todo.pop()
-                if fit[2] > UNIT_SPEED_TOL:
-                    m = 0.5 * (a + b)
-                    left, right = _fit_piece(speed, i, a, m), _fit_piece(speed, i, m, b)
-                    if not (fit[2] <= UNIT_SPEED_FLOOR and max(left[2], right[2]) > fit[2] / 2):
-                        if len(rows) + len(todo) >= MAX_PIECES or not a < m < b:
-                            raise ValueError(f"{what}: the arclength cannot be tabulated near "
-                                             f"parameter {a:.6g} (does the curve have a cusp, "
-                                             f"or is it too elongated?)")
-                        todo += [(m, b, right), (a, m, left)]
-                        continue
-                rows.append((s, fit[0], a, b, fit[1], i))
-                s += fit[0]
+                a, b = todo.pop()
+                width, coef, error = _fit_piece(speed, i, a, b)
+                resolved = np.max(np.abs(coef[-3:])) <= 16 * np.finfo(float).eps * (b - a)
+                if error > UNIT_SPEED_TOL and not (resolved and error <= UNIT_SPEED_FLOOR):
+                    if resolved or len(rows) + len(todo) >= MAX_PIECES:
+                        raise ValueError(f"{what}: the arclength cannot be tabulated near "
+                                         f"parameter {a:.6g}: the speed nearly vanishes "
+                                         f"there (a cusp, points out of order, or too "
+                                         f"elongated an ellipse)")
+                    todo += [(0.5 * (a + b), b), (a, 0.5 * (a + b))]
+                    continue
+                rows.append((s, width, a, b, coef, i))
+                s += width
         s0, ds, t0, t1, coef, interval = (np.array(c) for c in zip(*rows))
         for arr in (s0, ds, t0, t1, coef, interval):
             arr.flags.writeable = False
@@ -548,7 +551,7 @@ def _fit_piece(speed, i, a, b):
         tau = np.clip(linear + delta, 0.0, h)
         step = (mean * delta + _integral(deviation, i, a, tau)) / speed(a, tau, i)
         delta -= step
-        if np.max(np.abs(step)) <= np.finfo(float).eps * max(np.max(np.abs(delta)), 1e-300):
+        if np.max(np.abs(step)) <= np.finfo(float).eps * max(np.max(np.abs(delta)), 1e-3 * h):
             break
     delta[[0, -1]] = 0.0                             # t(0) = a and t(w) = b exactly
     weights = np.full(DEGREE + 1, 2.0 / DEGREE)
@@ -594,7 +597,7 @@ class Ellipse(Segment):
     Arclength: a(s) from the whole ellipse's :class:`ArclengthTable` (shared by all arcs of
     the same p and q, so that ``trace_key`` needs no table entries); sin a and cos a by the
     addition theorem from each piece's start. |d(r0, z0)/ds| - 1 <= 5e-14 between the nodes
-    of every piece, measured <= 2e-13 at 10^5 points (for 1e-3 <= q / p <= 1e3), and theta0,
+    of every piece, measured <= 1e-13 at 10^5 points (for 1e-3 <= q / p <= 1e3), and theta0,
     k1 are the curve's own at a(s) (round-off). Beyond its ends the arc continues along the
     ellipse (periodically in a).
 
@@ -608,6 +611,7 @@ class Ellipse(Segment):
     semi_z: float
     centre_z: float = 0.0
     angle: tuple[float, float] = field(kw_only=True)
+    _sigma0: float = field(init=False, repr=False, compare=False)   # S(a0) from a = 0
 
     def __post_init__(self):
         for name in ("semi_r", "semi_z"):
@@ -617,6 +621,7 @@ class Ellipse(Segment):
                                                                 self.centre_z)))
         object.__setattr__(self, "angle", _angle("Ellipse", self.angle, 0.0, math.pi,
                                                  "[0, pi]"))
+        object.__setattr__(self, "_sigma0", self._arclength(self.angle[0]))
 
     @property
     def _table(self) -> ArclengthTable:
@@ -635,7 +640,7 @@ class Ellipse(Segment):
 
     @property
     def length(self) -> float:
-        return abs(self._arclength(self.angle[1]) - self._arclength(self.angle[0]))
+        return abs(self._arclength(self.angle[1]) - self._sigma0)
 
     @property
     def start(self):
@@ -656,7 +661,7 @@ class Ellipse(Segment):
     def _parameter(self, u, xp):
         """(a, cos a, sin a) at local arclength u."""
         table, d = self._table, self._sign
-        sigma = self._arclength(self.angle[0]) + d * u
+        sigma = self._sigma0 + d * u
         turns = xp.floor(sigma / table.total)
         tau, i = table.parameter(sigma - turns * table.total, xp)
         t0 = xp.asarray(table.t0)[i]
@@ -689,8 +694,9 @@ class _Spline:
         coef, d1, d2: (m, K + 1 | K | K - 1, 2) coefficients, ascending powers of t - x_j,
             of c, c' and c'' on each interval j.
         offset: (P,) t0 - x_j of every piece of the table (its local variable at tau = 0).
-        theta_ref, cos_ref, sin_ref: (P,) a tangent angle near every piece's (unwrapped
-            along the curve), against which theta0 is measured (atan2 stays off its cut).
+        theta_ref, cos_ref, sin_ref: (P,) the tangent angle at every piece's middle
+            (unwrapped along the curve), from which theta0 is measured (so that atan2
+            stays off its cut).
         knots, nodes: arclength at the interior breakpoints and at the given points.
     """
 
@@ -746,7 +752,7 @@ def _spline_through(r: tuple, z: tuple) -> _Spline:
     def speed(t0, tau, j):
         return np.linalg.norm(_horner(d1[j], (t0 - x[j]) + tau), axis=-1)
 
-    _check_regular(speed, x, P)
+    _check_regular(speed, x, coef)
     table = ArclengthTable.build(x, speed, "Points")
     offset = table.t0 - x[table.interval]
     tangent = _horner(d1[table.interval], offset + (table.t1 - table.t0) / 2)
@@ -763,16 +769,15 @@ def _spline_through(r: tuple, z: tuple) -> _Spline:
     return curve
 
 
-def _check_regular(speed, x, P):
+def _check_regular(speed, x, coef):
     """ValueError where the spline's tangent nearly vanishes (a cusp: points out of order)."""
     tau = (x[1:] - x[:-1])[:, None] * (1.0 + _GAUSS_X) / 2.0
     v = np.array([speed(x[j], tau[j], j) for j in range(len(x) - 1)])
     if v.min() <= 1e-6 * v.max():
-        j = int(np.argmin(v.min(axis=1)))
+        r, z = coef[int(np.argmin(v.min(axis=1))), 0]
         raise ValueError(f"Points: the curve through the points has a cusp (its tangent "
-                         f"vanishes) between parameters {x[j]:.6g} and {x[j + 1]:.6g} (chord "
-                         f"length from the first point): are the points ordered along the "
-                         f"curve? {P.tolist()[:3]}...")
+                         f"vanishes) after (r, z) = ({r:.6g}, {z:.6g}): are the points "
+                         f"ordered along the curve?")
 
 
 def _check_turn(curve: _Spline):
@@ -808,7 +813,8 @@ class Points(Segment):
     (r = 0, to within 1e-12 of the points' extent) is a pole: the points reflected to r < 0
     about it are added before fitting (both ends: a periodic spline through the closed
     curve), so the curve is mirror-symmetric there and meets the axis at a right angle (to
-    round-off) with k2 -> k1.
+    round-off) with k2 -> k1, whatever the points near it suggest (points along a cone's
+    apex get a rounded tip within their first interval: cut the cone off or round it).
 
     Closeness: the curve passes through every point (measured <= 1e-15 relative to the
     points' extent at ``nodes``, their arclength positions). Through samples of a smooth
