@@ -1112,10 +1112,10 @@ def _check_meet(segments, size: float):
 def _local_minima(seg: Segment, u, r):
     """(u, r0) at the interior local minima of r0 on the segment (samples refined by a
     bounded scalar minimisation)."""
-    from scipy.optimize import minimize_scalar
-
     out = []
     for j in np.flatnonzero((r[1:-1] < r[:-2]) & (r[1:-1] <= r[2:])) + 1:
+        from scipy.optimize import minimize_scalar
+
         res = minimize_scalar(lambda v: float(seg.evaluate(v)[0]), bounds=(u[j - 1], u[j + 1]),
                               method="bounded", options={"xatol": 1e-14 * seg.length})
         out.append((float(res.x), float(res.fun)) if res.fun < r[j] else (u[j], r[j]))
