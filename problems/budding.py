@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import shellbvp
-from shellbvp import Chebyshev, ContinuationOptions, Ritz, Scene
+from shellbvp import Chebyshev, ContinuationOptions, Ritz, Scene, spherical_cap
 
 __all__ = ["THETA", "H", "LAM", "PATCH", "GAMMAS", "scene", "patch", "gammas", "method_for",
            "branch", "equilibrium", "equilibrium_near", "diagnose", "Diagnosis",
@@ -83,17 +83,18 @@ def gammas(eta, convention: str = "paper") -> tuple:
     return eta * g2, g2
 
 
-def patch(piece, s, kbar, c):
-    """The stimulus fields of eq. (stimulusII), c = (gamma_a1, gamma_a2, gamma_b1, gamma_b2):
-    on the patch (piece 0) g_a^2 = 1 + gamma_a,a kbar / 5 and kb_a = -(1 + gamma_b,a kbar)
-    / g_a^2; outside it (piece 1) the reference cap. The gammas are the scene's field
-    parameters, arguments of the compiled programs: every case shares them."""
-    one = 0.0 * s + 1.0
-    if piece == 1:                       # outside the patch: the reference cap
-        return one, one, -one, -one
+def patch(x, kbar, c):
+    """The stimulus fields of eq. (stimulusII) at the reference point x, c = (gamma_a1,
+    gamma_a2, gamma_b1, gamma_b2): on the patch (piece 0) g_a^2 = 1 + gamma_a,a kbar / 5
+    and kb_a = (1 + gamma_b,a kbar) k_a / g_a^2 (k_a the reference's curvatures, -1/R0);
+    outside it (piece 1) the reference cap. The gammas are the scene's field parameters,
+    arguments of the compiled programs: every case shares them."""
+    one = 0.0 * x.s + 1.0
+    if x.piece == 1:                     # outside the patch: the reference cap
+        return one, one, x.k1 * one, x.k2 * one
     G1, G2 = 1.0 + c[0] * kbar / 5.0, 1.0 + c[1] * kbar / 5.0
-    return (G1 ** 0.5 * one, G2 ** 0.5 * one, -(1.0 + c[2] * kbar) / G1 * one,
-            -(1.0 + c[3] * kbar) / G2 * one)
+    return (G1 ** 0.5 * one, G2 ** 0.5 * one, (1.0 + c[2] * kbar) * x.k1 / G1,
+            (1.0 + c[3] * kbar) * x.k2 / G2)
 
 
 def scene(eta_a, eta_b, gammas: str = "paper") -> Scene:
@@ -103,8 +104,8 @@ def scene(eta_a, eta_b, gammas: str = "paper") -> Scene:
     ga, gb = _gammas(eta_a, gammas), _gammas(eta_b, gammas)
     if eta_b == 0:
         raise ValueError("eta_b must be > 0 (the curvature stimulus drives the bud), got 0")
-    return Scene(theta=THETA, h=H, lam=LAM, model="relaxed", material="cg", apex="free",
-                 edge="clamped", fields=patch, field_parameters=(*ga, *gb),
+    return Scene(geometry=spherical_cap(THETA), h=H, lam=LAM, model="relaxed", material="cg",
+                 ends=("pole", "clamped"), fields=patch, field_parameters=(*ga, *gb),
                  breaks=(PATCH,), metric=eta_a > 0, parameter="kbar", parameter_unit="")
 
 

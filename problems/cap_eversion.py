@@ -47,8 +47,7 @@ def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene
 
     ``material="koiter"`` is the morphoelastic Koiter reference shell (Poisson ratio nu),
     whose kappa_s is the paper's "theoretical prediction" (Pezzulla et al. 2018)."""
-    return Scene(theta=theta, h=h, lam=lam, model=model, material=material, apex="held",
-                 edge="free", fields=shellbvp.uniform_curvature, parameter="kappa", nu=nu)
+    return shellbvp.cap(theta, h, lam=lam, model=model, material=material, nu=nu)
 
 
 def equilibrium(kappa, theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
@@ -94,12 +93,19 @@ def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_m
 def _branch_of(sc, *, kappa_max, n_folds, w_max, method, options, progress,
                energies) -> shellbvp.Branch:
     """:func:`branch` of the scene ``sc`` (built and checked once by the caller)."""
-    H = 1.0 - math.cos(sc.theta)
+    H = sc.geometry.rise
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
     return shellbvp.follow(sc, method=method, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
                            progress=progress, energies=energies)
+
+
+def _theta_gradient(fold) -> dict:
+    """:func:`shellbvp.fold_gradient` of a snap fold with the meridian's length named as the
+    cap's opening angle (on the unit sphere d/dL = d/dTheta)."""
+    g = shellbvp.fold_gradient(fold)
+    return {("theta" if k == "length" else k): v for k, v in g.items()}
 
 
 def _default_spectral(method) -> bool:
@@ -153,7 +159,7 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
     f = b.folds[0]
     return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), theta, h, lam,
                       model, material, T, dict(b.stats) | {"fold": f.stats}, fold=f,
-                      gradient=shellbvp.fold_gradient(f) if gradient else None)
+                      gradient=_theta_gradient(f) if gradient else None)
 
 
 def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
@@ -314,7 +320,7 @@ def _along_fold_curve(T, folds, h, lam, model, material, nu, tol):
         return None
     if not (0 < f.monitor < 1):
         return None
-    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), sc.theta, h, lam,
+    return SnapResult(True, float(f.p), float(f.w), float(f.error_estimate), sc.length, h, lam,
                       model, material, T, {"fold": f.stats, "along_fold_curve": True}, fold=f)
 
 
@@ -323,7 +329,7 @@ def flat_slope(T, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, nodes=N
     no fold there; negative: between a fold pair); ``nodes``: Chebyshev degree (default
     :func:`shellbvp.default_nodes`)."""
     sc = scene(T * math.sqrt(h), h, lam, model=model, material=material, nu=nu)
-    H = 1.0 - math.cos(sc.theta)
+    H = sc.geometry.rise
     return shellbvp.at_monitor(sc, H, method=Chebyshev(nodes=nodes)).dp_dw
 
 

@@ -38,11 +38,11 @@ from __future__ import annotations
 import math
 
 import shellbvp
-from shellbvp import ContinuationOptions, PressureResult, Scene
+from shellbvp import ContinuationOptions, PressureResult, Scene, spherical_cap
 from shellbvp.cache import atomic_write_text
 
 __all__ = ["scene", "geometry", "pressure_scale", "branch", "critical_pressure",
-           "PressureResult", "membrane_state", "pressure", "unstimulated", "first_instability"]
+           "PressureResult", "membrane_state", "pressure", "first_instability"]
 
 #: the branch stops when the apex has gone this many rises down (past full inversion, -2 H)
 W_STOP_RISES = 2.4
@@ -60,13 +60,6 @@ def _options(ds_max: float) -> ContinuationOptions:
     validated with), without the fold probe: the apex deflection turns with the pressure
     at the fold, so a point with it prescribed does not bracket the fold."""
     return ContinuationOptions.to_first_fold().with_(ds=5.0, ds_max=ds_max, fold_probe=False)
-
-
-def unstimulated(piece, s, p):
-    """No stimulus: the target metric and curvature are the reference sphere's
-    (g1 = g2 = 1, kb1 = kb2 = -1/R0 in the package's sign convention)."""
-    one = 0.0 * s + 1.0
-    return one, one, -one, -one
 
 
 def pressure(p):
@@ -134,12 +127,12 @@ def scene(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     """The clamped cap of geometric parameter lambda_B under external pressure (module
     docstring); its parameter is the pressure P = p R0 / (mu* h0)."""
     theta, h = geometry(lambda_B, R_over_t, nu, material=material, lam=lam)
-    # only the parameter the material uses goes to the scene (which refuses the others)
-    return Scene(theta=theta, h=h, lam=lam, nu=nu if material == "koiter" else 0.5,
-                 model=model, material=material,
-                 apex="free", edge="clamped", fields=unstimulated, parameter="pressure",
-                 parameter_unit="R0_over_mu_h0",
-                 pressure=pressure)
+    # only the parameter the material uses goes to the scene (which refuses the others); no
+    # stimulus: the target is the reference sphere
+    return Scene(geometry=spherical_cap(theta), h=h, lam=lam,
+                 nu=nu if material == "koiter" else 0.5, model=model, material=material,
+                 ends=("pole", "clamped"), parameter="pressure",
+                 parameter_unit="R0_over_mu_h0", pressure=pressure)
 
 
 def branch(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
@@ -152,7 +145,7 @@ def branch(lambda_B, R_over_t=100.0, nu=0.3, *, material="koiter", lam=1.0,
     apex deflection w / t (and w / H), with the folds marked, atomically."""
     sc = scene(lambda_B, R_over_t, nu, material=material, lam=lam, model=model)
     c = pressure_scale(sc.h, nu, material=material, lam=lam)
-    H = 1.0 - math.cos(sc.theta)
+    H = sc.geometry.rise
     options = _options(DS_MAX).with_(fold_tol=tol * c) if options is None \
         else options.with_fold_tol(tol * c, scale=c)
     b = shellbvp.follow(sc, method=method, p0=0.0, n_folds=n_folds,
@@ -188,10 +181,10 @@ def critical_pressure(lambda_B, *, R_over_t=100.0, nu=0.3, material="koiter", la
         if b.stop:
             raise shellbvp.ConvergenceError(f"critical_pressure: the branch ended before a "
                                             f"fold: {b.stop}")
-        return PressureResult(float(lambda_B), float(R_over_t), nu, material, sc.theta, sc.h,
+        return PressureResult(float(lambda_B), float(R_over_t), nu, material, sc.length, sc.h,
                               False, math.nan, math.nan, math.nan, None, b)
     f = b.folds[0]
-    return PressureResult(float(lambda_B), float(R_over_t), nu, material, sc.theta, sc.h,
+    return PressureResult(float(lambda_B), float(R_over_t), nu, material, sc.length, sc.h,
                           True, float(f.p) / c, float(f.error_estimate) / c, float(f.w), f, b)
 
 

@@ -1,13 +1,15 @@
 """shellbvp: reduced morphoelastic shell energies derived from 3D, axisymmetric equilibria of
-stimulated spherical shells, continuation and folds (Taffetani & Pezzulla, "Nonlinear
+stimulated shells of revolution, continuation and folds (Taffetani & Pezzulla, "Nonlinear
 morphoelastic energy based theory for stimuli responsive elastic shells").
 
 Public API (this module; everything else is reached through its submodules)
 ------------------------------------------------------------------------------
 Energies (paper Sections 2-4; derived symbolically from the 3D densities)
     energy_density, energy_terms, EnergyTerms, MODELS, MATERIALS
-Problem
-    Scene, uniform_curvature (scenes as data)
+Problem (scenes as data)
+    Scene, End, ReferencePoint, cap, uniform_curvature; the reference geometry: Meridian and
+    its segments Plate, Cylinder, Cone, Sphere, Torus, Ellipse, Points, with spherical_cap,
+    closed_sphere, disc, annulus, cylinder
 Methods (discretisations behind one protocol, :mod:`shellbvp.methods`)
     Chebyshev (spectral, default), Shooting (diffrax), Collocation (scipy's solve_bvp),
     Ritz (direct minimisation of the discrete energy), as_method
@@ -45,7 +47,9 @@ from .errors import ConvergenceError
 from .methods import Chebyshev, Collocation, Ritz, Shooting, as_method
 from .models import MATERIALS, MODELS
 from .results import Branch, Equilibrium, Fold
-from .scene import Scene, uniform_curvature
+from .geometry import (Cone, Cylinder, Ellipse, Meridian, Plate, Points, Sphere, Torus,
+                       annulus, closed_sphere, cylinder, disc, spherical_cap)
+from .scene import End, ReferencePoint, Scene, cap, uniform_curvature
 from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
 from .harmonics import Modes, modes
@@ -58,7 +62,9 @@ except PackageNotFoundError:        # a source tree that is not installed
 
 __all__ = [
     "energy_density", "energy_terms", "EnergyTerms", "MODELS", "MATERIALS",
-    "Scene", "uniform_curvature",
+    "Scene", "End", "ReferencePoint", "cap", "uniform_curvature",
+    "Meridian", "Plate", "Cylinder", "Cone", "Sphere", "Torus", "Ellipse", "Points",
+    "spherical_cap", "closed_sphere", "disc", "annulus", "cylinder",
     "Chebyshev", "Shooting", "Collocation", "Ritz", "as_method",
     "solve", "follow", "at_monitor", "fold_near", "fold_curve_point", "fold_gradient",
     "ContinuationOptions",

@@ -1,41 +1,50 @@
 """The axisymmetric boundary-value problem of a scene, written once for every method.
 
 A :class:`ShellBVP` turns a :class:`shellbvp.Scene` into a multi-point first-order BVP
-for y = (r, z, theta, m, f_r, f_z) (m, f = 12/h^2 times the moment and forces, so that
-bending and membrane unknowns have the same size):
+for y = (r, z, theta, m, f_r, f_z) in the meridian's arclength s (m, f = 12/h^2 times the
+moment and forces, so that bending and membrane unknowns have the same size):
 
-* **pieces**: the meridian s in [eps, theta] is cut at the scene's interfaces into pieces
-  [a_i, b_i], each mapped to the piece coordinate t in [0, 1] (dy/dt = (b_i - a_i) f). The
-  methods keep one state per piece and impose continuity of all six components at every
-  interface, so a jump of the stimulus is exact (the meridional stretch may jump there);
-* **pole**, at s = eps = ``POLE_OFFSET`` theta: the pole is a regular singular point whose
-  regular solution has g1 lam1 = g2 lam2 + O(s^2) (equal actual stretches: r ~ g1 lam1 s and
-  lam2 = r / (g2 sin s); lam1 = lam2 only without a metric stimulus), k1 = k2 + O(s^2) and
-  z(0) = z(eps) + r theta / 2 + O(eps^4); the conditions are g1 lam1 = g2 lam2, k1 = k2 and
-  z(0) = 0 (apex ``held``) or f_z = 0 (apex ``free``). Their O(eps^2) relative error gives
-  an O(eps^4) error in the solution. Where the target curvature is anisotropic at the apex
-  (kb1 != kb2) the solution is not regular: k1 - k2 tends to a nonzero constant and both
-  curvatures grow like log s (as for a plate with anisotropic natural curvature: the moment
-  balance (s M1)' = M2 near s = 0 with M linear in k forces k1 - k2 = (1 - nu)(k*1 - k*2)/2,
-  nu = W_k1k2 / W_k1k1, k* where the moments vanish). There the condition is k1 - k2 = A,
-  which excludes the 1/s mode as k1 = k2 does at a regular apex: the shape and w converge,
-  the apex curvatures do not (they diverge like log s). A target metric anisotropic at the
-  apex (g1 != g2, a cone) would need the same treatment of the stretches; it keeps
-  g1 lam1 = g2 lam2 at eps, which is exact only for a regular membrane state;
-* **edge**, at s = theta: m = f_r = f_z = 0 (``free``) or r, z, theta at the reference
-  sphere's values (``clamped``);
-* **load**: a scene's uniform pressure (``Scene.pressure``) enters the compiled equations as a
-  fifth field beside (g1, g2, kb1, kb2), through its potential P V
-  (:mod:`shellbvp.euler_lagrange`);
-* **observable** (the branch monitor), in units of the rise H = 1 - cos theta: for a free
-  edge the vertical displacement of the edge relative to the apex, for a clamped edge that
-  of the apex relative to the edge (positive along +z, the cap's axis at the apex).
+* **pieces**: the domain [s_a, s_b] (the meridian [0, L], less the pole offset eps at an end
+  on the axis) is cut at the scene's interfaces (the joints of the geometry and the breaks
+  of the fields) into pieces [a_i, b_i], each mapped to the piece coordinate t in [0, 1]
+  (dy/dt = (b_i - a_i) f). The methods keep one state per piece and impose
+  y(a_{i+1}) = y(b_i) + jump_i at every interface: continuity of all six components, but
+  for theta at a kink of the geometry, which jumps by the reference's angle (a rigid
+  joint), so a jump of the stimulus or of the tangent is exact (the meridional stretch may
+  jump there);
+* **poles**, an end on the axis (r0 = 0), at eps = ``POLE_OFFSET`` L from it: the pole is
+  a regular singular point whose regular solution has g1 lam1 = g2 lam2 + O(s^2) (equal
+  actual stretches: r ~ g1 lam1 r0 and lam2 = r / (g2 r0); lam1 = lam2 only without a
+  metric stimulus), k1 = k2 + O(s^2) and z(pole) = z(eps) + r (theta - theta_pole) / 2
+  + O(eps^4) (theta_pole = 0 at a first end, pi at a second); the conditions are
+  g1 lam1 = g2 lam2, k1 = k2 and, at the pinned end (:attr:`shellbvp.Scene.pinned`),
+  z(pole) = its reference height, else f_z = 0 (no point force). Their O(eps^2) relative
+  error gives an O(eps^4) error in the solution. Where the target curvature is anisotropic
+  at a pole (kb1 != kb2) the solution is not regular: k1 - k2 tends to a nonzero constant
+  and both curvatures grow like log s (as for a plate with anisotropic natural curvature:
+  the moment balance (s M1)' = M2 near s = 0 with M linear in k forces
+  k1 - k2 = (1 - nu)(k*1 - k*2)/2, nu = W_k1k2 / W_k1k1, k* where the moments vanish).
+  There the condition is k1 - k2 = A, which excludes the 1/s mode as k1 = k2 does at a
+  regular pole: the shape and w converge, the pole curvatures do not (they diverge like
+  log s). A target metric anisotropic at a pole (g1 != g2, a cone) would need the same
+  treatment of the stretches; it keeps g1 lam1 = g2 lam2 at eps, which is exact only for a
+  regular membrane state;
+* **other ends** (:class:`shellbvp.scene.End`): ``free`` (m, f_r, f_z given by the line
+  loads: F(second end) = Q and F(first end) = -Q per radian, Q the load per unit reference
+  length times r0), ``clamped`` (r, z, theta at the reference's values), ``hinged`` (r, z;
+  m given), ``roller`` (z; f_r, m given), ``symmetry`` (theta at the reference's, f_r = 0,
+  f_z given), and at the pinned end z at its reference height in place of f_z;
+* **load**: a scene's uniform pressure (``Scene.pressure``) enters the compiled equations as
+  a field beside the stimulus, through its potential P V (:mod:`shellbvp.euler_lagrange`);
+* **monitor**, the branch observable (:attr:`shellbvp.Scene.monitor_terms`): by default the
+  axial displacement of the end that does not fix z relative to the one that does, in
+  units of the reference's rise (:attr:`shellbvp.Scene.monitor_scale`).
 
-The reference mid-surface is r = sin s, z = cos s - 1, theta = s (apex at the origin). All
-of the above is JAX code compiled once per (model, material, fields, pieces, conditions); the
-methods in :mod:`shellbvp.methods` only discretise it. The nodal right-hand side is
-evaluated in chunks padded to one of a few sizes (``CHUNKS``), so that a change of
-resolution reuses a compiled program instead of compiling a new one.
+The reference state is (r0, z0, theta0, 0, 0, 0) from the geometry. All of the above is JAX
+code compiled once per scene structure (:func:`shellbvp.kernels.kernel_key`); the methods in
+:mod:`shellbvp.methods` only discretise it. The nodal right-hand side is evaluated in chunks
+padded to one of a few sizes (``CHUNKS``), so that a change of resolution reuses a compiled
+program instead of compiling a new one.
 """
 
 from __future__ import annotations
@@ -46,16 +55,18 @@ import numpy as np
 
 from .bvp_derivatives import Derivatives
 from .errors import ConvergenceError
-from .kernels import kernels, observable_and_gradient, untraceable
+from .fields import interface_jumps, piece_ends
+from .kernels import kernels, monitor_and_gradient, untraceable
 from .meridian import MeridianStates
 from .nodal import Collocated, Hint, Nodal, carried_roots, flat_nodes
 from .scene import Scene
 
-__all__ = ["ShellBVP", "Nodal", "Collocated", "reference_state", "POLE_OFFSET", "CHUNKS"]
+__all__ = ["ShellBVP", "Nodal", "Collocated", "POLE_OFFSET", "CHUNKS"]
 
-#: eps / theta. The pole conditions are exact to O(eps^2), so the solution is good to
-#: O(eps^4) = 1e-16 relative: below every tolerance the solvers reach, while eps stays far
-#: enough from s = 0 that lam2 = r / (g2 sin s) is evaluated without cancellation.
+#: eps / L (L the meridian's length). The pole conditions are exact to O(eps^2), so the
+#: solution is good to O(eps^4) = 1e-16 relative: below every tolerance the solvers reach,
+#: while eps stays far enough from the axis that lam2 = r / (g2 r0) is evaluated without
+#: cancellation.
 POLE_OFFSET = 1e-4
 #: nodes are evaluated in chunks padded to one of these sizes (larger sets in chunks of the
 #: last), so that a change of resolution mostly reuses a compiled program (each costs
@@ -79,26 +90,19 @@ ROUND_OFF_PER_H = 5.0
 ROUND_OFF_LAM = 100.0
 
 
-def reference_state(s):
-    """The undeformed cap: (r, z, theta, m, f_r, f_z) = (sin s, cos s - 1, s, 0, 0, 0)."""
-    s = np.asarray(s, dtype=float)
-    z0 = np.zeros_like(s)
-    return np.stack([np.sin(s), np.cos(s) - 1.0, s, z0, z0, z0])
-
-
 def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
-#: parameter values at which the fields are probed for anisotropy at the apex
+#: parameter values at which the fields are probed for anisotropy at a pole
 APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 
 
-def _anisotropic_apex(scene, eps) -> bool:
-    """Whether the target curvature is anisotropic at the apex (kb1 != kb2 at s = eps for
-    some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A
-    (module docstring), which costs third derivatives of W in the compiled boundary rows."""
+def _anisotropic_pole(scene, piece, s) -> bool:
+    """Whether the target curvature is anisotropic at a pole (kb1 != kb2 at its offset point
+    s for some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A
+    (module docstring), which costs third derivatives of W in the compiled end rows."""
     for p in APEX_PROBES:
-        F = [float(v) for v in scene.field_values(0, eps, p)]
+        F = [float(v) for v in scene.field_values(piece, s, p)]
         if F[2] != F[3] and all(math.isfinite(v) for v in F):
             return True
     return False
@@ -109,11 +113,13 @@ class ShellBVP(Derivatives, MeridianStates):
 
     Arguments:
         scene: the problem.
-        eps: pole offset (default ``POLE_OFFSET * theta``); must be below a tenth of the
-            first piece.
+        eps: pole offset (default ``POLE_OFFSET * L``); must be below a tenth of the piece
+            at a pole.
 
     Attributes:
-        scene, eps, P (number of pieces), a, b (piece ends in s), rise (H = 1 - cos theta).
+        scene, eps, P (number of pieces), a, b (piece ends in s), jumps ((P - 1, 6), the
+        unknowns' jumps across the interfaces), poles (per end), s_a, s_b (the domain's
+        ends), length (the meridian's L), scale (the monitor's unit length).
     """
 
     n = 6
@@ -126,31 +132,63 @@ class ShellBVP(Derivatives, MeridianStates):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
         eps_given = eps
-        eps = POLE_OFFSET * scene.theta if eps is None else float(eps)
-        first = scene.breaks[0] if scene.breaks else scene.theta
-        if not (0 < eps < first / 10):
-            raise ValueError(f"eps must lie in (0, {first / 10:g}) (a tenth of the first "
-                             f"piece), got {eps!r}")
-        self.scene, self.eps = scene, eps
-        #: d eps / d theta: the default pole offset scales with theta, a given one is fixed
-        self.eps_per_theta = POLE_OFFSET if eps_given is None else 0.0
-        self.a = np.array((eps,) + scene.breaks)
-        self.b = np.array(scene.breaks + (scene.theta,))
+        L = scene.length
+        eps = POLE_OFFSET * L if eps is None else float(eps)
+        ends = piece_ends(scene)
+        self.poles = tuple(e.kind == "pole" for e in scene.ends)
+        for k, (pole, piece) in enumerate(zip(self.poles, (ends[1] - ends[0],
+                                                            ends[-1] - ends[-2]))):
+            if pole and not (0 < eps < piece / 10):
+                raise ValueError(f"eps must lie in (0, {piece / 10:g}) (a tenth of the piece "
+                                 f"at the pole), got {eps!r}")
+        self.scene, self.eps, self.length = scene, eps, L
+        self.s_a = eps if self.poles[0] else 0.0
+        self.s_b = L - eps if self.poles[1] else L
+        #: d s_a / d L and d s_b / d L: the default pole offset scales with the meridian's
+        #: length, a given one is fixed (derivatives in the length move the second end)
+        #: whether eps was given (else it is the default, a fixed fraction of L)
+        self.eps_given = eps_given is not None
+        per_L = POLE_OFFSET if eps_given is None else 0.0
+        self.ends_per_length = (per_L if self.poles[0] else 0.0,
+                                1.0 - per_L if self.poles[1] else 1.0)
+        self.a = np.concatenate([[self.s_a], ends[1:-1]])
+        self.b = np.concatenate([ends[1:-1], [self.s_b]])
         self.P = scene.pieces
-        self.rise = 1.0 - math.cos(scene.theta)
-        n_c = len(scene.field_parameters)
-        problem = untraceable(scene.fields, self.P, scene.pressure, n_c)
+        self.jumps = interface_jumps(scene)
+        self.scale = scene.monitor_scale
+        problem = untraceable(scene)
         if problem:
             raise ValueError(problem)
         self._layouts = {}
-        #: kb1 != kb2 at the apex: curvatures diverge like log s there (module docstring)
-        self.anisotropic_apex = _anisotropic_apex(scene, eps)
-        self._k = kernels(scene.model, scene.material, float(scene.rhob1),
-                           bool(scene.metric), scene.fields, self.P, scene.apex, scene.edge,
-                           self.anisotropic_apex, scene.pressure, n_c)
+        #: kb1 != kb2 at a pole: curvatures diverge like log s there (module docstring)
+        self.anisotropic_poles = (
+            self.poles[0] and _anisotropic_pole(scene, 0, self.s_a),
+            self.poles[1] and _anisotropic_pole(scene, self.P - 1, self.s_b))
+        self._k = kernels(scene, self.anisotropic_poles)
         #: the field parameters, an argument of every compiled function of the fields
         self.field_parameters = np.array(scene.field_parameters, dtype=float)
+        self._refs = self._monitor_references()
         self.evaluations = 0
+
+    @property
+    def anisotropic_apex(self) -> bool:
+        """Whether the first end is a pole with an anisotropic target curvature."""
+        return self.anisotropic_poles[0]
+
+    def _monitor_references(self):
+        """The reference values of r, z, theta at the two ends the monitor reads (at a pole
+        the pole itself: r = 0, theta at a right angle to the axis)."""
+        geo = self.scene.geometry
+        out = []
+        for k, (which, pole, s) in enumerate(zip(("first", "second"), self.poles,
+                                                 (self.s_a, self.s_b))):
+            if pole:
+                out.append({"r": 0.0, "z": float(geo.at_end(which)[1]),
+                            "theta": (0.0, math.pi)[k]})
+            else:
+                r0, z0, th0 = (float(v) for v in geo.at_end(which))
+                out.append({"r": r0, "z": z0, "theta": th0})
+        return out
 
     def round_off(self, p: float) -> float:
         """Round-off scatter of a fold's parameter value p: ``ROUND_OFF_PER_H`` eps (1 + |p|)
@@ -162,7 +200,8 @@ class ShellBVP(Derivatives, MeridianStates):
         of the ladder does not see it, so fold error estimates are at least this."""
         sc = self.scene
         stiff = max(1.0, sc.lam / ROUND_OFF_LAM) if sc.material == "cg" else 1.0
-        return ROUND_OFF_PER_H * np.finfo(float).eps * (1.0 + abs(p)) / sc.h * stiff
+        return ROUND_OFF_PER_H * np.finfo(float).eps * (1.0 + abs(p)) \
+            / (sc.h / sc.curvature_radius) * stiff
 
     @property
     def lengths(self) -> np.ndarray:
@@ -173,8 +212,12 @@ class ShellBVP(Derivatives, MeridianStates):
         return self.a[i] + (self.b[i] - self.a[i]) * np.asarray(t, dtype=float)
 
     def reference(self, s):
-        """The undeformed state at s (the default guess)."""
-        return reference_state(s)
+        """The undeformed state (r0, z0, theta0, 0, 0, 0) at s (the default guess; a joint
+        of the geometry belongs to the next segment)."""
+        s = np.asarray(s, dtype=float)
+        r0, z0, th0, _ = self.scene.geometry.evaluate(s)
+        zero = np.zeros_like(s)
+        return np.stack([r0 + zero, z0 + zero, th0 + zero, zero, zero, zero])
 
     # --- nodal functions ----------------------------------------------------------------------
     def _layout(self, P, m, size=None):
@@ -209,7 +252,7 @@ class ShellBVP(Derivatives, MeridianStates):
 
     def _check(self, F, ok, s, p):
         P, m = s.shape
-        F = F.reshape(P, m, 5)
+        F = F.reshape(P, m, -1)
         if not self.scene.fields_admissible(F):     # all pieces at once; name the culprit
             for i in range(P):
                 self.scene.check_fields(F[i].T, i, p)
@@ -275,6 +318,11 @@ class ShellBVP(Derivatives, MeridianStates):
         n = P * q_new.shape[1]
         return Hint(flat_nodes(Y_new), float(p), q_new.reshape(n, 2), np.zeros((n, 2, 7)))
 
+    def _ends(self):
+        """The domain's ends and the meridian's length: the trailing scalars of the compiled
+        boundary functions."""
+        return self.s_a, self.s_b, self.length
+
     def _nodal_result(self, s, Y, p, out, yf) -> Nodal:
         F, f, J, fp, ok, q, dq = out
         P, m = s.shape
@@ -286,8 +334,8 @@ class ShellBVP(Derivatives, MeridianStates):
         return Nodal(f, J, fp, Hint(yf, float(p), q, dq))
 
     def collocate(self, s, Y, p, hint=None) -> Collocated:
-        """:meth:`rhs` at the nodes, :meth:`boundary` at y(eps) = Y[0, :, 0] and
-        y(theta) = Y[-1, :, -1], and :meth:`monitor` there: the same values, in one compiled
+        """:meth:`rhs` at the nodes, :meth:`boundary` at y(s_a) = Y[0, :, 0] and
+        y(s_b) = Y[-1, :, -1], and :meth:`monitor` there: the same values, in one compiled
         call when all nodes fit in one chunk."""
         s, Y, yf, q0 = self._nodal_args(s, Y, hint, p)
         P, m = s.shape
@@ -301,8 +349,7 @@ class ShellBVP(Derivatives, MeridianStates):
         def call(q):
             nod, bc, mon = self._k.collocate(
                 piece[idx], s.reshape(-1)[idx], yf[idx], float(p), self.scene.material_parameter,
-                sc.h, self.field_parameters, q[idx], Y[0, :, 0], Y[-1, :, -1], self.eps,
-                sc.theta)
+                sc.h, self.field_parameters, q[idx], Y[0, :, 0], Y[-1, :, -1], *self._ends())
             return [o[:P * m] for o in nod], bc, mon
 
         out, bc, mon = call(q0)
@@ -316,29 +363,36 @@ class ShellBVP(Derivatives, MeridianStates):
 
     # --- boundary conditions and observable ---------------------------------------------------
     def boundary(self, ya, yb, p):
-        """Residual (6,) of the pole (3 rows) and edge (3 rows) conditions, with its
-        derivatives in ya = y(eps), yb = y(theta) and p. Interface continuity is imposed by
-        the methods (all six components)."""
+        """Residual (6,) of the first end's (3 rows) and second end's (3 rows) conditions,
+        with its derivatives in ya = y(s_a), yb = y(s_b) and p. Interface conditions are
+        imposed by the methods (all six components, with :attr:`jumps`)."""
         sc = self.scene
         return self._boundary_result(self._k.boundary(
-            np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), self.eps,
-            sc.theta, self.scene.material_parameter, sc.h, self.field_parameters), p)
+            np.asarray(ya, dtype=float), np.asarray(yb, dtype=float), float(p), *self._ends(),
+            self.scene.material_parameter, sc.h, self.field_parameters), p)
 
     def _boundary_result(self, out, p):
         r, Ja, Jb, Jp, ok, F0 = out
         if not self.scene.fields_admissible(F0):
             self.scene.check_fields(F0[:, None], 0, p)
         if not ok:
-            raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at the pole "
+            raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at a pole "
                                    f"({self.scene.parameter} = {p:g})")
         return r, Ja, Jb, Jp
 
     def monitor(self, ya, yb):
-        """The observable w / H (module docstring) and its gradients in ya and yb."""
-        m, (ga, gb) = observable_and_gradient(np.asarray(ya, dtype=float),
-                                              np.asarray(yb, dtype=float), self.scene.theta,
-                                              self.scene.edge == "free", np)
+        """The monitor (module docstring) and its gradients in ya and yb."""
+        sc = self.scene
+        m, (ga, gb) = monitor_and_gradient(np.asarray(ya, dtype=float),
+                                           np.asarray(yb, dtype=float), sc.monitor_terms,
+                                           self.poles, self._refs, self.scale, np)
         return float(m), ga, gb
+
+    def interface_rows(self, Y):
+        """y(a_{i+1}) - y(b_i) - jump_i at every interface, (P - 1, 6), from states Y
+        (P, 6, m) whose first and last nodes are the piece ends."""
+        Y = np.asarray(Y, dtype=float)
+        return Y[1:, :, 0] - Y[:-1, :, -1] - self.jumps
 
     def vector_field(self):
         """The traceable point function (piece, s, y, p, material_parameter, h) -> f (6,),

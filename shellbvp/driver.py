@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -46,9 +46,7 @@ def _check_p(scene, p):
 
 def _profile_of(guess):
     if guess is None:
-        from .bvp import reference_state
-
-        return reference_state
+        return None
     if isinstance(guess, Equilibrium):
         return guess.unknowns
     if not callable(guess):
@@ -113,8 +111,8 @@ def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float |
         raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
     _check_p(scene, p)
     method = as_method(method)
-    profile = _profile_of(guess)
     bvp = _shell_bvp(scene, eps)
+    profile = _profile_of(guess) or bvp.reference
     t0 = time.perf_counter()
     try:
         system, U, stats = _discrete_solve(method, bvp, float(p), profile)
@@ -126,7 +124,7 @@ def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float |
             s = np.concatenate([bvp.s_of(i, t) for i in range(bvp.P)])
             a, b = bvp.profile(system.dense(U, p)), bvp.profile(fine.dense(Uf, p))
             err = max(float(np.max(np.abs(a(s)[:3] - b(s)[:3]))),
-                      abs(fine.monitor(Uf)[0] - system.monitor(U)[0]) * bvp.rise)
+                      abs(fine.monitor(Uf)[0] - system.monitor(U)[0]) * bvp.scale)
     except ConvergenceError as exc:
         if throw:
             raise
@@ -177,7 +175,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     method = _continuation_method(method)
     bvp = _shell_bvp(scene, eps)
     system = method.discretise(bvp)
-    H = bvp.rise
+    H = bvp.scale
     stop = ""
     surface = implements(system, MidSurface)
     if check_stability and not surface:
@@ -270,19 +268,19 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
         raise ValueError(f"w must be finite, got {w!r}")
     bvp = _shell_bvp(scene, eps)
     system = _continuation_method(method).discretise(bvp)
-    target = w / bvp.rise
+    target = w / bvp.scale
     pts, _ = pseudo_arclength(system, system.from_profile(bvp.reference), float(p0),
                               options=options or ContinuationOptions.to_first_fold(),
                               monitor_stop=(-math.inf, target))
     if pts[-1].monitor < target:
         raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
-                               f"{pts[-1].monitor * bvp.rise:.6g})")
+                               f"{pts[-1].monitor * bvp.scale:.6g})")
     q = min(pts[-2:], key=lambda q: abs(q.monitor - target))
     res = newton(system, *q.predicted(target), 1.0, 0.0, target, tol=SOLVE_NEWTON_TOL)
     if not res.ok:
         raise ConvergenceError(f"no solution with w = {w:g} prescribed: {res.history}")
     _, _, slope = tangent(res)
-    return MonitorPoint(p=res.p, w=w, dp_dw=slope / bvp.rise, resolution=system.describe())
+    return MonitorPoint(p=res.p, w=w, dp_dw=slope / bvp.scale, resolution=system.describe())
 
 
 def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | None = None,
@@ -376,12 +374,12 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
         raise ValueError(f"monitor must be finite and step positive, got monitor={monitor!r}, "
                          f"step={step!r}")
     base = near.system.bvp.scene
-    eps = None if near.system.bvp.eps_per_theta else near.system.bvp.eps
+    eps = near.system.bvp.eps if near.system.bvp.eps_given else None
 
     def at_theta(system):
-        return lambda th: system.on(_shell_bvp(replace(base, theta=float(th)), eps))
+        return lambda th: system.on(_shell_bvp(base.with_length(float(th)), eps))
 
-    system, U, p, theta = near.system, near.U, near.p, base.theta
+    system, U, p, theta = near.system, near.U, near.p, base.length
     steps = max(1, math.ceil(abs(monitor - near.monitor) / step))
     iterations = 0
     for m in np.linspace(near.monitor, monitor, steps + 1)[1:]:
@@ -401,10 +399,12 @@ def fold_curve_point(near, monitor: float, *, step: float = 0.05) -> FoldCurvePo
 
 def fold_gradient(fold) -> dict:
     """Exact derivatives of a fold's parameter value (e.g. kappa_s) in the scene's data:
-    ``{"theta": dp/dTheta, "h": dp/dh, <material>: ...}`` with <material> ``"lam"``
-    (Ciarlet-Geymonat) or ``"nu"`` (Koiter); an incompressible neo-Hookean shell has no
-    material parameter. Each derivative holds the other quantities (and the scene's
-    interfaces, in s) fixed; at fixed h, d/dT = sqrt(h) d/dTheta (T = Theta / sqrt(h)).
+    ``{"length": dp/dL, "h": dp/dh, <material>: ...}`` with L the meridian's length (the
+    second end moved along its segment: dp/dTheta for a cap of the unit sphere) and
+    <material> ``"lam"`` (Ciarlet-Geymonat) or ``"nu"`` (Koiter); an incompressible
+    neo-Hookean shell has no material parameter. Each derivative holds the other quantities
+    (and the scene's interfaces, in s) fixed; at fixed h, d/dT = sqrt(h) d/dTheta
+    (T = Theta / sqrt(h)).
 
     By implicit differentiation of the fold of the discrete system the fold was refined on
     (:func:`shellbvp.continuation.fold_sensitivity`), with the derivatives of the equations
@@ -413,7 +413,7 @@ def fold_gradient(fold) -> dict:
     """
     d = fold_sensitivity(fold)
     name = MATERIAL_PARAMETER[fold.system.bvp.scene.material]
-    out = {"theta": d["theta"], "h": d["h"]}
+    out = {"length": d["length"], "h": d["h"]}
     if name is not None:
         out[name] = d["material"]
     return out

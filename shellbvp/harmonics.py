@@ -2,7 +2,7 @@
 harmonic at a time.
 
 About an axisymmetric equilibrium x0(s, omega) = (r cos omega, r sin omega, z) (s the
-meridional angle of the reference sphere, R0 = 1) perturb the mid-surface by
+arclength of the reference meridian) perturb the mid-surface by
 
     dx = U_r(s) cos(n omega) e_r + U_w(s) sin(n omega) e_omega + U_z(s) cos(n omega) e_z
 
@@ -31,7 +31,7 @@ its partner (U_w e_omega: twist) is taken together with it, with weight 2 pi: th
 matrix holds the axisymmetric second variation and the torsional one.
 
 Pole regularity (a smooth vector field near the axis: a scalar ~ r^n, u_r +- i u_omega ~
-r^(n -+ 1)), imposed at s = 0:
+r^(n -+ 1)), imposed at each end on the axis:
 
 * n = 0: U_r = U_w = 0 and U_z' = 0 (no cone at the apex);
 * n = 1: U_z = 0 and U_r + U_w = 0 (a lateral translation is U_r = 1, U_w = -1; a tilt
@@ -39,20 +39,28 @@ r^(n -+ 1)), imposed at s = 0:
 * n >= 2: U_r = U_w = U_z = 0 and U_z' = 0 (curvature changes ~ n^2 U_z / r^2 must be
   square-integrable).
 
-A clamped edge has U = 0 and no rotation of the tangent out of the surface,
-U_r' sin(theta) + U_z' cos(theta) = 0. Across an interface of a piecewise stimulus U and the
-rotation (dx_s . N) / |x_s| are continuous. Where the stretch |x_s| jumps there, "the tangent
-plane does not fold" (x_s^r . (x_s^l x x_o) = 0) is not linear in dx: the second variation
-on the admissible set is then the Hessian of the Lagrangian, whose extra term (the interface
-moment times the condition's second variation) is included; without it the eigenvalues fall
-without bound as the degree grows. A free edge has no conditions: the cap's rigid
-motions are then zero-energy modes (n = 0: axial translation U_z = 1, rotation about the
-axis U_w = r; n = 1: lateral translation (1, -1, 0), tilt (z, -z, -r)); they are identified
-(their Rayleigh quotients reported) and the spectrum is computed on their complement in the
-mass norm, never suppressed by supports the real cap does not have.
+The other ends (:class:`shellbvp.scene.End`): a clamped end has U = 0 and no rotation of
+the tangent out of the surface, U_r' sin(theta) + U_z' cos(theta) = 0; a hinged end U = 0; a
+roller U_z = 0; a symmetry end (a mirror plane normal to the axis) U_z = 0 and no rotation:
+only the modes symmetric about that plane are seen, as in the axisymmetric problem (the
+antisymmetric ones of the whole shell need the whole meridian); a free end none. Across an
+interface (a joint of the geometry or a break of the stimulus) U and the rotation
+(dx_s . N) / |x_s| are continuous: the joint is rigid, at a kink too. Where the stretch
+|x_s| jumps there or the tangent turns, "the angle between the two tangents does not
+change" is not linear in dx: the second variation on the admissible set is then the
+Hessian of the Lagrangian, whose extra term (the interface moment times the condition's
+second variation) is included; without it the eigenvalues fall without bound as the degree
+grows. Where the ends leave rigid motions (n = 0: the axial translation U_z = 1 unless an
+end holds z, the rotation about the axis U_w = r unless an end holds its position; n = 1:
+the lateral translation (1, -1, 0) and the tilt (z, -z, -r) unless an end holds them) they
+are zero-energy modes: they are identified (their Rayleigh quotients reported) and the
+spectrum is computed on their complement in the mass norm, never suppressed by supports the
+real shell does not have.
 
 Discretisation: per piece, each U a Chebyshev series of degree ``degree``; the quadratic
-form and the mass int int |dx|^2 dA_target by Gauss-Legendre quadrature; the base state from
+form and the mass int int |dx|^2 dA_target by Gauss-Legendre quadrature; the energy from the
+reference and target forms of :mod:`shellbvp.kinematics` and the fields of
+:mod:`shellbvp.fields`; the base state from
 the equilibrium's own interpolant and inner roots at Chebyshev points (its stretch
 derivative by Chebyshev differentiation). The eigenvalues, in energy per mu* h0 R0^2 per unit
 squared amplitude in that mass norm, converge spectrally with the degree.
@@ -164,16 +172,17 @@ def _cross(a, b):
 
 
 @lru_cache(maxsize=None)
-def _hessian_kernel(model: str, material: str, rhob1: float):
+def _hessian_kernel(model: str, material: str):
     """jit(vmap) of the Hessian of the density per ds domega in the 18 local numbers q =
-    (x, x_s, x_o, x_ss, x_so, x_oo), with per-point data (g1, g2, kb1, kb2, sin s) and the
-    scalars (material parameter, h, pressure). The reduced energy enters through the six
-    entries of (a, b), so its Hessian is taken in those six (36 second-order directions,
-    not 324) and chained through the geometry: H_q = J^T H_ab J + sum_k dW/d(ab)_k
-    Hess_q (ab)_k, the last a Hessian of the cheap geometric map only."""
+    (x, x_s, x_o, x_ss, x_so, x_oo), with per-point fields F (:data:`shellbvp.kinematics.
+    FIELDS`) and the scalars (material parameter, h, pressure). The reduced energy enters
+    through the six entries of (a, b), so its Hessian is taken in those six (36 second-order
+    directions, not 324) and chained through the geometry: H_q = J^T H_ab J + sum_k
+    dW/d(ab)_k Hess_q (ab)_k, the last a Hessian of the cheap geometric map only."""
     from .jaxsetup import jax, jit
     import jax.numpy as jnp
 
+    from . import kinematics as K
     from .forms import reduced_energy
 
     def forms(q):
@@ -183,23 +192,25 @@ def _hessian_kernel(model: str, material: str, rhob1: float):
         return jnp.stack([_dot(xs, xs), _dot(xs, xo), _dot(xo, xo),
                           _dot(xss, N), _dot(xso, N), _dot(xoo, N)])
 
-    def energy(ab, d, mat, h):
-        g1, g2, kb1, kb2, sn = d[0], d[1], d[2], d[3], d[4]
+    def energy(ab, F, mat, h):
         a = jnp.array([[ab[0], ab[1]], [ab[1], ab[2]]])
         b = jnp.array([[ab[3], ab[4]], [ab[4], ab[5]]])
-        abar = jnp.array([[g1**2, 0.0], [0.0, (g2 * sn) ** 2]])
-        bbar = jnp.array([[kb1 * g1**2, 0.0], [0.0, kb2 * (g2 * sn) ** 2]])
+        (a11, a22), (b11, b22) = K.target_forms(F)
+        abar = jnp.array([[a11, 0.0], [0.0, a22]])
+        bbar = jnp.array([[b11, 0.0], [0.0, b22]])
         kw = dict(nu=mat) if material == "koiter" else dict(lam=mat)
-        return reduced_energy(a, b, abar, bbar, h=h, model=model, material=material,
-                              rhob=(rhob1, 0.0, 0.0), **kw) * g1 * g2 * sn
+        rb = K.RHOB.start
+        return reduced_energy(a, b, abar, bbar, h=h * F[K.THICKNESS], model=model,
+                              material=material, rhob=(F[rb], F[rb + 1], F[rb + 2]),
+                              **kw) * K.area_factor(F)
 
     def load(q):
         return _triple(q[0:3], q[3:6], q[6:9]) / 3.0
 
-    def hessian(q, d, mat, h, P):
+    def hessian(q, F, mat, h, P):
         ab = forms(q)
-        gW = jax.grad(energy)(ab, d, mat, h)
-        HW = jax.jacfwd(jax.grad(energy))(ab, d, mat, h)
+        gW = jax.grad(energy)(ab, F, mat, h)
+        HW = jax.jacfwd(jax.grad(energy))(ab, F, mat, h)
         J = jax.jacfwd(forms)(q)
         Hg = jax.hessian(lambda x: jnp.dot(gW, forms(x)))(q)
         grad = J.T @ gW + P * jax.grad(load)(q)
@@ -229,10 +240,10 @@ def _local_map(n: int) -> np.ndarray:
 class _Base:
     """The equilibrium and its discretisation: quadrature points, basis values, Hessians."""
 
-    pieces: tuple                 # (a, b) per piece, a = 0 for the first
+    pieces: tuple                 # (a, b) per piece, from 0 to the meridian's length
     s: np.ndarray                 # (P, m) Gauss points
     wq: np.ndarray                # (P, m) weights (ds)
-    area: np.ndarray              # (P, m) g1 g2 sin s
+    area: np.ndarray              # (P, m) the target area per ds domega, g1 g2 r0
     theta: np.ndarray             # (P, m)
     r: np.ndarray
     z: np.ndarray
@@ -241,7 +252,7 @@ class _Base:
     ends: dict                    # theta, |x_s|, r, z at piece ends: {(i, side): tuple}
     degree: int
     E: tuple                      # (E0, E1, E2) per piece: (m, degree + 1) basis derivatives
-    clamped: bool
+    kinds: tuple                  # the kinds of the two ends (shellbvp.scene.End)
     G: np.ndarray                 # (P, m, 18): the density's gradient (first variation)
 
 
@@ -267,12 +278,16 @@ def _cheb_basis(m, N, scale):
 
 def _base(eq: Equilibrium, degree: int) -> _Base:
     from .bvp import ShellBVP
+    from .fields import piece_ends, point_fields
     from .methods.chebyshev import chebyshev_points
+    from . import kinematics as K
 
     sc = eq.scene
     bvp = ShellBVP(sc)
     P = bvp.P
-    bounds = [(0.0 if i == 0 else float(bvp.a[i]), float(bvp.b[i])) for i in range(P)]
+    ends_s = piece_ends(sc)
+    bounds = [(float(ends_s[i]), float(ends_s[i + 1])) for i in range(P)]
+    c = np.asarray(sc.field_parameters, dtype=float)
     Nb = BASE_DEGREE
     tb = chebyshev_points(Nb)
     sb = np.stack([bvp.s_of(i, tb) for i in range(P)])          # from eps on the first piece
@@ -290,22 +305,22 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
     m = max(2 * degree, Nb) + 8
     xg, wg = np.polynomial.legendre.leggauss(m)
     C = np.polynomial.chebyshev
-    S, WQ, AREA, TH, R, Zs, LAM, Hs, Es, ends = [], [], [], [], [], [], [], [], [], {}
+    S, WQ, AREA, TH, R, Zs, LAM, Es, ends = [], [], [], [], [], [], [], [], {}
     data, Q = [], []
     for i, (a, b) in enumerate(bounds):
-        # interpolants on the base nodes' own interval, evaluated on [a, b] (the first
+        # interpolants on the base nodes' own interval, evaluated on [a, b] (at a pole the
         # piece's [0, eps] is an extrapolation over ~1e-4 of the piece)
         lo, hi = float(sb[i, 0]), float(sb[i, -1])
         xb = 2 * (sb[i] - lo) / (hi - lo) - 1
         g1 = F[i, 0]
         fit = {k: C.chebfit(xb, v, Nb) for k, v in
                (("lam", g1 * X[i, 0]), ("k1", X[i, 2]), ("theta", Y[i, 2]), ("r", Y[i, 0]),
-                ("z", Y[i, 1] - eq.z_apex))}
+                ("z", Y[i, 1]))}
         s = (a + b) / 2 + (b - a) / 2 * xg
         xs = 2 * (s - lo) / (hi - lo) - 1
-        ev = {k: C.chebval(xs, c) for k, c in fit.items()}
+        ev = {k: C.chebval(xs, c_) for k, c_ in fit.items()}
         dlam = C.chebval(xs, C.chebder(fit["lam"])) * 2 / (hi - lo)
-        fv = np.broadcast_to(np.asarray(sc.field_values(i, s, eq.p), float), (4, m))
+        fv = point_fields(sc, i, s, eq.p, c, np)                  # (fields, m)
         lam, th, r, z = ev["lam"], ev["theta"], ev["r"], ev["z"]
         dth = -lam * ev["k1"]                   # theta' = -g1 lam1 k1 = -|x_s| k1
         t = np.stack([np.cos(th), np.zeros_like(th), -np.sin(th)])
@@ -315,17 +330,17 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
             dlam * t - lam * dth * N, np.stack([0 * r, lam * np.cos(th), 0 * r]),
             np.stack([-r, 0 * r, 0 * r])]).T                     # (m, 18)
         Q.append(q)
-        data.append(np.stack([fv[0], fv[1], fv[2], fv[3], np.sin(s)], axis=-1))
+        data.append(fv.T)
         S.append(s)
         WQ.append((b - a) / 2 * wg)
-        AREA.append(fv[0] * fv[1] * np.sin(s))
+        AREA.append(fv[K.G1] * fv[K.G2] * fv[K.R0])
         TH.append(th), R.append(r), Zs.append(z), LAM.append(lam)
         Es.append(_cheb_basis(m, degree, 2.0 / (b - a)))
         for side, x_end in (("a", -1.0), ("b", 1.0)):
             xe = 2 * ((a if side == "a" else b) - lo) / (hi - lo) - 1
             ends[(i, side)] = tuple(float(C.chebval(xe, fit[k])) for k in
                                     ("theta", "lam", "r", "z"))
-    kernel = _hessian_kernel(sc.model, sc.material, float(sc.rhob1))
+    kernel = _hessian_kernel(sc.model, sc.material)
     pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))
     qa, da = np.concatenate(Q), np.concatenate(data)
     G, H = (np.asarray(x) for x in kernel(qa, da, float(sc.material_parameter), float(sc.h),
@@ -335,7 +350,7 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
                                "(a quadrature point without a valid state)")
     return _Base(tuple(bounds), np.stack(S), np.stack(WQ), np.stack(AREA), np.stack(TH),
                  np.stack(R), np.stack(Zs), np.stack(LAM), H.reshape(P, m, 18, 18), ends,
-                 degree, tuple(Es), sc.edge == "clamped", G.reshape(P, m, 18))
+                 degree, tuple(Es), tuple(e.kind for e in sc.ends), G.reshape(P, m, 18))
 
 
 # --- assembly -------------------------------------------------------------------------------
@@ -381,41 +396,73 @@ def _pole_class(n: int) -> int:
     return min(n, 2)
 
 
+#: the displacement components (U_r, U_w, U_z) each kind of end holds, and whether it holds
+#: the rotation of the tangent out of the surface
+HOLDS = {"clamped": ((0, 1, 2), True), "hinged": ((0, 1, 2), False), "roller": ((2,), False),
+         "symmetry": ((2,), True), "free": ((), False)}
+
+
 def _constraints(base: _Base, n: int) -> np.ndarray:
     P = base.s.shape[0]
     rows = []
     R = lambda i, side, order, comp: _end_rows(base, i, side, order, comp)  # noqa: E731
-    if n == 0:
-        rows += [R(0, "a", 0, 0), R(0, "a", 0, 1), R(0, "a", 1, 2)]
-    elif n == 1:
-        rows += [R(0, "a", 0, 2), R(0, "a", 0, 0) + R(0, "a", 0, 1)]
-    else:
-        rows += [R(0, "a", 0, c) for c in range(3)] + [R(0, "a", 1, 2)]
+
+    def rot(j, side, th, lam):
+        return (np.sin(th) * R(j, side, 1, 0) + np.cos(th) * R(j, side, 1, 2)) / lam
+
+    for end, (i, side) in enumerate(((0, "a"), (P - 1, "b"))):
+        kind = base.kinds[end]
+        if kind == "pole":
+            if n == 0:
+                rows += [R(i, side, 0, 0), R(i, side, 0, 1), R(i, side, 1, 2)]
+            elif n == 1:
+                rows += [R(i, side, 0, 2), R(i, side, 0, 0) + R(i, side, 0, 1)]
+            else:
+                rows += [R(i, side, 0, c) for c in range(3)] + [R(i, side, 1, 2)]
+            continue
+        comps, rotation = HOLDS[kind]
+        rows += [R(i, side, 0, c) for c in comps]
+        if rotation:
+            th, lam = base.ends[(i, side)][:2]
+            rows.append(rot(i, side, th, lam))
     for i in range(P - 1):
         rows += [R(i, "b", 0, c) - R(i + 1, "a", 0, c) for c in range(3)]
-        th, lam_l = base.ends[(i, "b")][:2]
-        lam_r = base.ends[(i + 1, "a")][1]
-        rot = lambda j, side, lam: (np.sin(th) * R(j, side, 1, 0)  # noqa: E731
-                                    + np.cos(th) * R(j, side, 1, 2)) / lam
-        rows.append(rot(i, "b", lam_l) - rot(i + 1, "a", lam_r))
-    if base.clamped:
-        th = base.ends[(P - 1, "b")][0]
-        rows += [R(P - 1, "b", 0, c) for c in range(3)]
-        rows.append(np.sin(th) * R(P - 1, "b", 1, 0) + np.cos(th) * R(P - 1, "b", 1, 2))
+        th_l, lam_l = base.ends[(i, "b")][:2]
+        th_r, lam_r = base.ends[(i + 1, "a")][:2]
+        rows.append(rot(i, "b", th_l, lam_l) - rot(i + 1, "a", th_r, lam_r))
     return np.array(rows)
 
 
+def _interface_row(base: _Base, n: int, i: int) -> int:
+    """The index of interface i's rotation row in :func:`_constraints` (the ends' rows come
+    first, then 3 + 1 rows per interface)."""
+    count = 0
+    for kind in base.kinds:
+        if kind == "pole":
+            count += (3, 2, 4)[_pole_class(n)]
+        else:
+            comps, rotation = HOLDS[kind]
+            count += len(comps) + int(rotation)
+    return count + 4 * i + 3
+
+
 def _rigid(base: _Base, n: int) -> list:
-    """(name, (3, P m) values of (U_r, U_w, U_z) at the quadrature points) of a free cap."""
-    if base.clamped or n > 1:
+    """(name, (3, P m) values of (U_r, U_w, U_z) at the quadrature points) of the rigid
+    motions the ends leave (module docstring)."""
+    if n > 1:
         return []
+    held = set()
+    for kind in base.kinds:
+        if kind != "pole":
+            held |= set(HOLDS[kind][0])
     r, z = base.r.ravel(), base.z.ravel()
     one, zero = np.ones_like(r), np.zeros_like(r)
     if n == 0:
-        return [("axial translation", np.stack([zero, zero, one])),
-                ("rotation about the axis", np.stack([zero, r, zero]))]
-    return [("lateral translation", np.stack([one, -one, zero])),
-            ("tilt", np.stack([z, -z, -r]))]
+        out = [] if 2 in held else [("axial translation", np.stack([zero, zero, one]))]
+        return out + ([] if 1 in held else [("rotation about the axis",
+                                              np.stack([zero, r, zero]))])
+    out = [] if {0, 1} & held else [("lateral translation", np.stack([one, -one, zero]))]
+    return out + ([] if held else [("tilt", np.stack([z, -z, -r]))])
 
 
 @dataclass(frozen=True)
@@ -476,14 +523,17 @@ def _stiffness_parts(base: _Base, D) -> dict:
 
 @lru_cache(maxsize=None)
 def _kink_hessian():
-    """Hessian of the interface condition c = x_s^r . (x_s^l x x_o) / (|x_s^l| |x_s^r| r) in
-    (x_s^l, x_s^r, x_o): c = 0 says that the tangent plane does not fold at an interface
-    (its linear part is the rotation condition of :func:`_constraints`)."""
+    """Hessian of the interface condition c = atan2(x_s^r . (x_s^l x x_o) / |x_o|,
+    x_s^l . x_s^r), the signed angle between the tangents on either side about the hoop
+    direction, in (x_s^l, x_s^r, x_o): the joint is rigid (c keeps its reference value, zero
+    where the tangent does not turn); its linear part is the rotation condition of
+    :func:`_constraints`."""
     from .jaxsetup import jax, jit
     import jax.numpy as jnp
 
-    def c(v, scale):
-        return _dot(v[3:6], _cross(v[0:3], v[6:9])) / scale
+    def c(v):
+        xl, xr, xo = v[0:3], v[3:6], v[6:9]
+        return jnp.arctan2(_dot(xr, _cross(xl, xo)) / jnp.sqrt(_dot(xo, xo)), _dot(xl, xr))
 
     return jit(jax.hessian(c))
 
@@ -491,11 +541,11 @@ def _kink_hessian():
 def _interface_terms(base: _Base, D) -> list:
     """Per interface (piece i | i + 1): (mu', H_c) with mu' the multiplier of its rotation
     condition per unit angle, from the first variation of the n = 0 family (least squares on
-    all the conditions), and H_c the Hessian of the condition. Where the stretch jumps the
-    condition is not linear in the displacement: the second variation on the admissible set
-    (the Hessian of the Lagrangian) then has the term -mu' int c_2 domega, which the
-    quadratic form of the density alone misses (without it the eigenvalues fall without
-    bound as the degree grows)."""
+    all the conditions), and H_c the Hessian of the condition. Where the stretch jumps or the
+    tangent turns the condition is not linear in the displacement: the second variation on
+    the admissible set (the Hessian of the Lagrangian) then has the term -mu' int c_2 domega,
+    which the quadratic form of the density alone misses (without it the eigenvalues fall
+    without bound as the degree grows)."""
     P, m = base.s.shape
     if P == 1:
         return []
@@ -506,13 +556,13 @@ def _interface_terms(base: _Base, D) -> list:
     mu = np.linalg.lstsq(A.T, g, rcond=None)[0]
     out = []
     for i in range(P - 1):
-        th, lam_l, r, _ = base.ends[(i, "b")]
-        lam_r = base.ends[(i + 1, "a")][1]
-        t = np.array([np.cos(th), 0.0, -np.sin(th)])
-        v = np.concatenate([lam_l * t, lam_r * t, [0.0, r, 0.0]])
-        Hc = np.asarray(_kink_hessian()(v, lam_l * lam_r * r))
-        row = 3 + 4 * i + 3                  # n = 0: three pole rows, then 3 + 1 per interface
-        out.append((i, mu[row] / (2 * math.pi), Hc))
+        th_l, lam_l, r, _ = base.ends[(i, "b")]
+        th_r, lam_r = base.ends[(i + 1, "a")][:2]
+        tl = np.array([np.cos(th_l), 0.0, -np.sin(th_l)])
+        tr = np.array([np.cos(th_r), 0.0, -np.sin(th_r)])
+        v = np.concatenate([lam_l * tl, lam_r * tr, [0.0, r, 0.0]])
+        Hc = np.asarray(_kink_hessian()(v))
+        out.append((i, mu[_interface_row(base, 0, i)] / (2 * math.pi), Hc))
     return out
 
 

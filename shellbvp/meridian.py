@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from . import kinematics as K
 from .nodal import flat_nodes
 
 __all__ = ["MeridianStates", "STATE_CHUNK", "ENERGY_PANELS", "ENERGY_GAUSS"]
@@ -34,15 +35,18 @@ class MeridianStates:
         X, F, _, _ = self.state_and_hessian(s, Y, p, q_hint)
         return X, F
 
-    def state_and_hessian(self, s, Y, p, q_hint=None):
-        """:meth:`state` (fields (g1, g2, kb1, kb2)) and the gradient (P, 4, m) and Hessian
+    def state_and_hessian(self, s, Y, p, q_hint=None, all_fields=False):
+        """:meth:`state` (fields (g1, g2, kb1, kb2), or with ``all_fields`` every field of
+        :data:`shellbvp.kinematics.FIELDS`) and the gradient (P, 4, m) and Hessian
         (P, 4, 4, m) of W in X at every node: the ellipticity of the reduced energy is read
         from them (:func:`shellbvp.ellipticity.ellipticity`)."""
         s = np.asarray(s, dtype=float)
         P, m = s.shape
         X, F, ok, gw, Hw = self._scan(s, Y, p, q_hint)
         self._check(F, ok, s, p)
-        F = F.reshape(P, m, 5)[:, :, :4]          # the stimulus fields (the pressure is p's)
+        F = F.reshape(P, m, -1)
+        if not all_fields:
+            F = F[:, :, :4]                        # the stimulus fields
         return (np.moveaxis(X.reshape(P, m, 4), -1, 1), np.moveaxis(F, -1, 1),
                 np.moveaxis(gw.reshape(P, m, 4), -1, 1), np.moveaxis(Hw.reshape(P, m, 4, 4), 1, -1))
 
@@ -83,13 +87,13 @@ class MeridianStates:
         return ev
 
     def energies(self, dense_t, p, roots=None):
-        """(E_s, E_b, E_p) = 2 pi int (w_s, h^2/12 w_b) g1 g2 sin s ds and the pressure's
+        """(E_s, E_b, E_p) = 2 pi int (w_s, (h t)^2/12 w_b) t g1 g2 r0 ds and the pressure's
         potential E_p = P V = pi P int r^2 g1 lam1 sin(theta) ds (0 without a load), per
-        mu* h0 R0^2, by Gauss-Legendre quadrature per piece plus the polar cap [0, eps] (W is
-        constant there to O(eps^2); r^2 makes its E_p O(eps^4)). ``dense_t(t)`` is the
-        stacked (6 P, n) solution in the piece coordinate; ``roots`` = (t (m,), q (P, m, 2)):
-        the inner roots at a solver's nodes, interpolated as starts at the quadrature
-        points."""
+        mu* h R^2, by Gauss-Legendre quadrature per piece plus the polar caps [0, eps] at
+        poles (W is constant there to O(eps^2); r^2 makes its E_p O(eps^4)).
+        ``dense_t(t)`` is the stacked (6 P, n) solution in the piece coordinate;
+        ``roots`` = (t (m,), q (P, m, 2)): the inner roots at a solver's nodes, interpolated
+        as starts at the quadrature points."""
         from .energy import energy_terms
 
         sc = self.scene
@@ -105,18 +109,25 @@ class MeridianStates:
             tn, qn = roots
             hint = np.stack([np.stack([np.interp(t, tn, qn[i, :, c]) for c in range(2)], -1)
                              for i in range(self.P)])
-        X, F = self.state(s, Y, p, hint)
-        g1, g2, kb1, kb2 = np.moveaxis(F, 1, 0)
-        ws, wb, _, _ = energy_terms(*np.moveaxis(X, 1, 0), kb1, kb2, lam=sc.lam, nu=sc.nu,
-                                    model=sc.model, material=sc.material, rhob1=sc.rhob1)
-        dA = g1 * g2 * np.sin(s) * self.lengths[:, None] * wt[None, :]
-        Es, Eb = float(np.sum(ws * dA)), sc.h**2 / 12 * float(np.sum(wb * dA))
-        cap = g1[0, 0] * g2[0, 0] * (1 - math.cos(self.eps))
-        Es += ws[0, 0] * cap
-        Eb += sc.h**2 / 12 * wb[0, 0] * cap
+        X, F, _, _ = self.state_and_hessian(s, Y, p, hint, all_fields=True)
+        F = np.moveaxis(F, 1, 0)                                   # (fields, P, m)
+        rb = K.RHOB.start
+        ws, wb, _, _ = energy_terms(*np.moveaxis(X, 1, 0), F[K.KB1], F[K.KB2], lam=sc.lam,
+                                    nu=sc.nu, model=sc.model, material=sc.material,
+                                    rhob1=F[rb], rhob2=F[rb + 1], rhob3=F[rb + 2])
+        dA = K.area_factor(F) * self.lengths[:, None] * wt[None, :]
+        ht2 = (sc.h * F[K.THICKNESS]) ** 2 / 12
+        Es, Eb = float(np.sum(ws * dA)), float(np.sum(ht2 * wb * dA))
+        # the polar caps: W and the fields at the node next to the pole, the area of the
+        # reference's cap there (r0 ~ s) times g1 g2 t
+        for end, (i, k) in enumerate(((0, 0), (self.P - 1, -1))):
+            if self.poles[end]:
+                cap = K.area_factor(F[:, i, k]) / F[K.R0, i, k] * self.eps ** 2 / 2
+                Es += ws[i, k] * cap
+                Eb += ht2[i, k] * wb[i, k] * cap
         Ep = 0.0
         if sc.pressure is not None:
             r, th = Y[:, 0], Y[:, 2]
             Ep = math.pi * float(sc.pressure(p)) * float(np.sum(
-                r**2 * g1 * X[:, 0] * np.sin(th) * self.lengths[:, None] * wt[None, :]))
+                r**2 * F[K.G1] * X[:, 0] * np.sin(th) * self.lengths[:, None] * wt[None, :]))
         return 2 * math.pi * Es, 2 * math.pi * Eb, Ep

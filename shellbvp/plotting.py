@@ -14,16 +14,18 @@ import numpy as np
 
 __all__ = ["plot_equilibrium", "plot_branch", "stimulated"]
 
-#: a stimulus field differs from the reference sphere's (g = 1, kb = -1 in 1/R0, the sign
-#: convention of :func:`shellbvp.scene.uniform_curvature`) by more than this where it acts
+#: a stimulus field differs from the reference's (g = 1, kb = the reference's principal
+#: curvatures) by more than this where it acts
 STIMULUS_TOL = 1e-12
 
 
 def stimulated(eq) -> np.ndarray:
     """Per node of ``eq``, whether the stimulus acts there: a target metric g != 1 or a
-    target curvature kb != -1 (the reference unit sphere), at the equilibrium's parameter."""
+    target curvature kb different from the reference's, at the equilibrium's parameter."""
+    from .fields import piece_ends, reference_point
+
     sc = eq.scene
-    edges = np.concatenate([[0.0], sc.breaks, [sc.theta]])
+    edges = piece_ends(sc)
     piece = np.clip(np.searchsorted(edges, eq.s, side="right") - 1, 0, sc.pieces - 1)
     out = np.zeros(eq.s.shape, dtype=bool)
     for i in range(sc.pieces):
@@ -31,8 +33,9 @@ def stimulated(eq) -> np.ndarray:
         if on.any():
             g1, g2, kb1, kb2 = (np.broadcast_to(np.asarray(v, float), eq.s[on].shape)
                                 for v in sc.field_values(i, eq.s[on], eq.p))
-            out[on] = (np.abs(g1 - 1) + np.abs(g2 - 1) + np.abs(kb1 + 1) + np.abs(kb2 + 1)
-                       > STIMULUS_TOL)
+            x = reference_point(sc, i, eq.s[on])
+            out[on] = (np.abs(g1 - 1) + np.abs(g2 - 1) + np.abs(kb1 - x.k1)
+                       + np.abs(kb2 - x.k2) > STIMULUS_TOL)
     return out
 
 
@@ -51,13 +54,15 @@ def plot_equilibrium(eq, ax=None, *, strains: bool = True, mirror: bool = True,
     ``ax``: the axes of the shape, or a pair (shape, strains); new ones where None (several
     equilibria may share axes: the stimulated part is named in the legend once).
     ``mirror``: draw the meridian's reflection r -> -r too (the axisymmetric section).
-    ``origin``: z measured from the ``"apex"`` (the equilibrium's own convention) or from
-    the ``"edge"`` (natural for a clamped cap, whose edge does not move).
+    ``origin``: z as it is in the reference's frame (``"frame"``), or measured from the
+    first end (``"first"``, or ``"apex"``: a cap's apex) or from the second (``"second"``,
+    or ``"edge"``: natural for a clamped cap, whose edge does not move).
     ``label``, ``color``: of the meridian (default: the parameter's value; the next color).
     Returns the shape's axes, or the pair (shape, strains) with ``strains``.
     """
-    if origin not in ("apex", "edge"):
-        raise ValueError(f"origin must be 'apex' or 'edge', got {origin!r}")
+    origins = ("frame", "first", "second", "apex", "edge")
+    if origin not in origins:
+        raise ValueError(f"origin must be one of {origins}, got {origin!r}")
     if ax is None:
         plt = _pyplot()
         if strains:
@@ -68,7 +73,8 @@ def plot_equilibrium(eq, ax=None, *, strains: bool = True, mirror: bool = True,
     on = stimulated(eq)
     sc = eq.scene
     label = f"{sc.parameter} = {eq.p:.6g}" if label is None else label
-    z = eq.z - eq.z[-1] if origin == "edge" else eq.z
+    z = {"frame": eq.z, "first": eq.z - eq.z[0], "apex": eq.z - eq.z[0],
+         "second": eq.z - eq.z[-1], "edge": eq.z - eq.z[-1]}[origin]
     named = "stimulated" in [ln.get_label() for ln in shape_ax.lines]
     for sign in ((1.0, -1.0) if mirror else (1.0,)):
         line, = shape_ax.plot(sign * eq.r, z, "-", lw=1.2, color=color,

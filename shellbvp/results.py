@@ -1,9 +1,10 @@
 """Results: an equilibrium, a fold, a branch. Frozen, with error estimates and statistics,
 and keeping their discrete states so that shapes and strains need no re-solve.
 
-Units everywhere: lengths in R0; curvatures in 1/R0; the meridional moment M and the force
-multipliers F_r, F_z per mu* h0 R0 per radian of azimuth (the BVP's unknowns m, f_r, f_z are
-12/h^2 times these); energies per mu* h0 R0^2.
+Units everywhere: lengths in the geometry's unit R (R0 for a cap of the unit sphere);
+curvatures in 1/R; the meridional moment M and the force multipliers F_r, F_z per mu* h R
+per radian of azimuth (the BVP's unknowns m, f_r, f_z are 12/h^2 times these); energies per
+mu* h R^2.
 """
 
 from __future__ import annotations
@@ -31,8 +32,9 @@ class Equilibrium:
 
     Attributes:
         scene, p: the problem and its parameter value (e.g. kappa in 1/R0).
-        s: nodes (meridional angle of the reference sphere, from the pole offset eps).
-        r, z, theta: current meridian (z relative to the apex) and tangent angle.
+        s: nodes (arclength of the reference meridian; from the pole offset eps at a pole).
+        r, z, theta: current meridian (in the reference's frame, whose axial position the
+            ends fix) and tangent angle.
         lam1, lam2: stretches relative to the target metric; k1, k2: principal curvatures.
         eps11, eps22: elastic mid-surface strains (a_aa - abar_aa) / (2 abar_aa)
             = (lam_a^2 - 1) / 2, relative to the target metric.
@@ -43,16 +45,19 @@ class Equilibrium:
             the plane of its edge; 0 without a load), included in ``energy``, which is then
             the total potential energy. The energies are nan where their quadrature points
             between the nodes have no elliptic inner root (next to a loss of ellipticity).
-        w: the BVP's observable in R0 (free edge: vertical displacement of the edge relative
-            to the apex; clamped edge: of the apex relative to the edge, positive along +z).
+        w: the scene's monitor in R (:attr:`shellbvp.Scene.monitor_terms`; by default the
+            axial displacement of the end that does not fix z relative to one that does,
+            positive along +z: for a cap with a free edge the edge's relative to the apex,
+            with a clamped edge the apex's relative to the edge).
         legendre: per node, the Legendre condition of the axisymmetric energy: smallest
             eigenvalue of the Hessian of W in (lam1, lam1 k1) (scaled; positive where the
             reduced energy is elliptic, see :func:`shellbvp.ellipticity.ellipticity`).
         hessian_block: per node, the same for the (lam1, k1) block of the Hessian of W.
         pole_hessian_min: the same for the whole Hessian in (lam1, lam2, k1, k2) at the
-            first node (at the pole lam2 = lam1, k2 = k1 are tied).
+            first node (at a pole lam2 = lam1, k2 = k1 are tied).
         thin_shell: max over the meridian of h |k_a| and of h |kb_a| (current and target
-            curvatures times thickness; the reduced model assumes both small).
+            curvatures times the reference thickness; the reduced model assumes both
+            small).
         error_estimate: max change of (r, z, theta) and of w on the next finer
             discretisation (``nan`` when not requested).
         stats: solver statistics (method, resolution, iterations, wall time).
@@ -86,7 +91,7 @@ class Equilibrium:
     stats: dict = field(repr=False)
     success: bool
     message: str
-    z_apex: float = field(repr=False, default=0.0)
+    z_pole: float = field(repr=False, default=math.nan)
     profile: Any = field(repr=False, compare=False, default=None)
     legendre: np.ndarray = field(repr=False, default=None)
     hessian_block: np.ndarray = field(repr=False, default=None)
@@ -111,15 +116,14 @@ class Equilibrium:
                                 label=label, color=color)
 
     def unknowns(self, s):
-        """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F; z in the
-        BVP's frame, apex at z = 0 for the reference cap): a guess for another solve."""
+        """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F): a guess
+        for another solve."""
         if not self.success:
             raise ConvergenceError(f"this equilibrium did not converge: {self.message}")
         return self.profile(s)
 
     def __call__(self, s):
         y = np.array(self.unknowns(s), dtype=float)
-        y[1] -= self.z_apex
         y[3:] *= self.scene.h**2 / 12
         return y
 
@@ -161,7 +165,8 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     Hw = np.concatenate([Hw[i][:, :, k] for i, k in enumerate(keep)], axis=-1)
     legendre, block, full = ellipticity(X.T, gw.T, np.moveaxis(Hw, -1, 0), sc.h)
     dense_t = system.dense(U, p)
-    z_apex = y[1, 0] + y[0, 0] * y[2, 0] / 2     # z(0) from the regular series at eps
+    # the first pole's height from the regular series at eps
+    z_pole = y[1, 0] + y[0, 0] * y[2, 0] / 2 if bvp.poles[0] else math.nan
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
     message = "converged"
     try:
@@ -174,12 +179,12 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         message = f"converged; energies not available (quadrature between the nodes: {exc})"
     scale = sc.h**2 / 12
     return Equilibrium(
-        scene=sc, p=float(p), s=s, r=y[0], z=y[1] - z_apex, theta=y[2], lam1=X[0], lam2=X[1],
+        scene=sc, p=float(p), s=s, r=y[0], z=y[1], theta=y[2], lam1=X[0], lam2=X[1],
         k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2, eps22=(X[1] ** 2 - 1) / 2,
         M=scale * y[3], F_r=scale * y[4], F_z=scale * y[5], energy=Es + Eb + Ep,
-        stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.rise),
+        stretching_energy=Es, bending_energy=Eb, w=float(m * bvp.scale),
         error_estimate=float(error_estimate), stats=dict(stats or {}), success=True,
-        message=message, z_apex=float(z_apex), profile=bvp.profile(dense_t),
+        message=message, z_pole=float(z_pole), profile=bvp.profile(dense_t),
         legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
         load_potential=float(Ep))
@@ -198,10 +203,11 @@ def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
     return Equilibrium(
         scene=sc, p=float(p), s=st["s"], r=st["r"], z=st["z"], theta=st["theta"],
         lam1=X[0], lam2=X[1], k1=X[2], k2=X[3], eps11=(X[0] ** 2 - 1) / 2,
-        eps22=(X[1] ** 2 - 1) / 2, M=st["M"], F_r=st["F_r"], F_z=0.0 * st["s"],
+        eps22=(X[1] ** 2 - 1) / 2, M=st["M"], F_r=st["F_r"], F_z=st["F_z"],
         energy=Es + Eb + Ep, stretching_energy=Es, bending_energy=Eb,
-        w=float(m * system.bvp.rise), error_estimate=float(error_estimate),
-        stats=dict(stats or {}), success=True, message="converged", z_apex=0.0,
+        w=float(m * system.bvp.scale), error_estimate=float(error_estimate),
+        stats=dict(stats or {}), success=True, message="converged",
+        z_pole=float(st["z_pole"]) if system.bvp.poles[0] else math.nan,
         profile=system.profile(U, p), legendre=legendre, hessian_block=block,
         pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
@@ -242,7 +248,7 @@ class Fold:
 
     @property
     def w(self) -> float:
-        return float(self.monitor * self.system.bvp.rise)
+        return float(self.monitor * self.system.bvp.scale)
 
     def __repr__(self) -> str:
         name = self.system.bvp.scene.parameter if self.system is not None else "p"
@@ -265,10 +271,11 @@ class Branch:
     """A continuation diagram (arrays over the points, in order of arclength).
 
     Attributes:
-        p: parameter values; w: the observable (R0; see :class:`Equilibrium`).
+        p: parameter values; w: the monitor (in R; see :class:`Equilibrium`).
         energy, stretching_energy, bending_energy, load_potential: E / (mu* h0 R0^2) (nan
             when not computed; ``energy`` is their total, see :class:`Equilibrium`).
-        arclength: in the (w / H, p) plane, H the rise 1 - cos theta.
+        arclength: in the (w / H, p) plane, H the monitor's unit length
+            (:attr:`shellbvp.Scene.monitor_scale`; the rise 1 - cos Theta of a cap).
         folds: the folds passed, refined (:class:`Fold`).
         stats: method, resolution, points, evaluations, wall time.
         stop: why the branch ended before its stopping criteria ("" if it met one), e.g. the

@@ -1,16 +1,33 @@
-"""Scenes as data: geometry, stimulus fields, material and boundary conditions (paper Section 5).
+"""Scenes as data: the reference shell, its stimulus, material, ends and loads (paper Sections
+2-5 for any shell of revolution).
 
-A :class:`Scene` describes a spherical cap of reference radius R0 = 1 (meridional angle
-s in [0, theta], apex s = 0 on the axis), thickness h = h0/R0, and a stimulus given as fields
-on s that may be piecewise (``breaks`` are the interior interfaces, treated exactly as a
-multi-point problem) and may depend on one named scalar parameter (``parameter``, e.g.
-``"kappa"``). ``fields(piece, s, p)`` returns (g1, g2, kb1, kb2) on piece ``piece``:
-target stretch factors abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22 and target curvatures
-kb_a = bbar_aa / abar_aa, in 1/R0; with ``field_parameters`` c, ``fields(piece, s, p, c)``
-(numbers the compiled code takes as arguments). A uniform external pressure
-``pressure(p)`` may load it. Fields must use array arithmetic only (they are traced by
-JAX). A scene with ``metric=False`` promises g1 = g2 = 1 and gets
-Euler-Lagrange equations without g terms.
+A :class:`Scene` is a shell of revolution whose reference meridian is a
+:class:`shellbvp.geometry.Meridian` (plates, cylinders, cones, spheres, tori, ellipses and
+measured curves, joined end to end, kinks allowed), traced by its arclength s from its first
+end to its second. Lengths are in the geometry's unit R (any unit used consistently; the
+engine is accurate for lengths of order one in that unit), energies per mu* h R^2 with h the
+reference thickness, forces per radian of azimuth in mu* h R.
+
+The stimulus is given as fields of the reference point x (:class:`ReferencePoint`: its
+piece, s, r, z, tangent angle and principal curvatures) and of one scalar parameter p
+(``parameter``, e.g. ``"kappa"``): ``fields(x, p) -> (g1, g2, kb1, kb2)``, the target
+stretch factors (abar_11 = g1^2 a°_11, abar_22 = g2^2 a°_22) and the target principal
+curvatures kb_a = bbar_aa / abar_aa, or ``fields(x, p, c)`` with numbers c
+(``field_parameters``) that the compiled programs take as arguments. Without ``fields`` the
+target is the reference (no stimulus: kb = (x.k1, x.k2), g = 1). The through-thickness
+stimulus ``through_thickness(x, p[, c]) -> (rhob1, rhob2, rhob3)`` (phib = rhob1 Z + rhob2
+Z^2 + rhob3 Z^3; default none: (1, 0, 0)) and the thickness profile ``thickness(x) -> t``
+(the thickness is h t, default t = 1) are fields too. Fields may be piecewise: ``breaks``
+are interior interfaces in s where they may jump, treated exactly as a multi-point problem,
+as are the joints of the geometry. Fields use array arithmetic only (they are traced by
+JAX).
+
+The ends (:class:`End`) say what holds each end of the meridian: ``pole`` (an end on the
+axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller`` or ``symmetry``, with
+given line loads where they are free to move. An axisymmetric shell has one rigid motion
+its unknowns see, the axial translation; a scene whose ends do not fix the axial position
+has it removed by holding the first end's z (:attr:`Scene.pinned`), with the axial force
+there left free: it is zero when the loads balance, as they must for a free body.
 """
 
 from __future__ import annotations
@@ -18,123 +35,205 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Callable
 
 import numpy as np
 
 from . import checks
+from .fields import ReferencePoint, point_fields
+from .geometry import Meridian, spherical_cap
 from .models import MATERIAL_PARAMETER, MATERIALS, MODELS, material_parameter
 
-__all__ = ["Scene", "APEX", "EDGE", "uniform_curvature", "lam_max"]
+__all__ = ["Scene", "End", "ReferencePoint", "END_KINDS", "uniform_curvature", "lam_max",
+           "cap"]
 
-#: smallest opening angle: the rise 1 - cos Theta ~ Theta^2/2 keeps ~10 digits above it
+#: smallest opening angle of a cap (:func:`cap`): the rise 1 - cos Theta ~ Theta^2/2 keeps
+#: ~10 digits above it
 THETA_MIN = 1e-3
-#: smallest thickness: the edge layer (width ~ sqrt(h) R0) then needs ~ 6 Theta/sqrt(h)
-#: Chebyshev nodes, at the upper end of what the methods take
+#: smallest thickness over the reference's radius of curvature: the edge layer (width
+#: ~ sqrt(h R)) then needs ~ 6 L / sqrt(h R) Chebyshev nodes, at the upper end of what the
+#: methods take
 H_MIN = 1e-6
 #: largest lambda*/mu*: lam = 1e8 is Poisson ratio 0.5 - 5e-9
 LAM_MAX = 1e8
-#: largest lam / h**2 admitted (Ciarlet-Geymonat): the forces of the lam term carry
-#: round-off ~ lam eps and enter the equations beside the moment scaled by 12 / h**2, so
-#: Newton stalls once lam eps 12 / h**2 is too large. Measured at tol 1e-8 (relaxed):
-#: Theta = pi/6 resolves lam / h**2 = 3e9 at h = 1e-3, 3e-3 and 1e-2 and stalls at 1e10
-#: for all three (lam = 1e4, 1e5, 1e6); Theta = pi/3, h = 0.1 resolves 1e9 and fails at
-#: 2.5e9 (the inner (lam1, k1) Newton at the fold); Theta = 0.05, h = 1e-4 resolves 3e10 and
-#: stalls at 1e11; Theta = 1.5, h = 0.03 resolves 3.3e9; Theta = 0.2, h = 3e-3 stalls at
-#: 5.6e9 (no simple law in Theta or T fits all seven). The fence is the largest value
-#: resolved anywhere: beyond it nothing measured resolves; below it a cap that does not
-#: ends in a ConvergenceError that names the same remedy (driver.follow), rather than a
-#: refused case that would have worked.
+#: largest lam / h**2 admitted (Ciarlet-Geymonat; h over the reference's radius of
+#: curvature): the forces of the lam term carry round-off ~ lam eps and enter the equations
+#: beside the moment scaled by 12 / h**2, so Newton stalls once lam eps 12 / h**2 is too
+#: large. Measured at tol 1e-8 (relaxed) on caps: Theta = pi/6 resolves lam / h**2 = 3e9 at
+#: h = 1e-3, 3e-3 and 1e-2 and stalls at 1e10 for all three (lam = 1e4, 1e5, 1e6);
+#: Theta = pi/3, h = 0.1 resolves 1e9 and fails at 2.5e9 (the inner (lam1, k1) Newton at
+#: the fold); Theta = 0.05, h = 1e-4 resolves 3e10 and stalls at 1e11; Theta = 1.5,
+#: h = 0.03 resolves 3.3e9; Theta = 0.2, h = 3e-3 stalls at 5.6e9 (no simple law in Theta
+#: or T fits all seven). The fence is the largest value resolved anywhere: beyond it nothing
+#: measured resolves; below it a shell that does not ends in a ConvergenceError that names
+#: the same remedy (driver.follow), rather than a refused case that would have worked.
 LAM_OVER_H2_MAX = 3e10
 #: what each material uses (for the error of a parameter it does not)
 USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parameter, and "
         "J = 1 fixes the through-thickness stretch, so there is no model choice",
         "koiter": "it uses nu; it is a reference energy, not a reduction with models"}
-APEX = ("held", "free")   # held: z(0) = 0 (vertical point force allowed); free: F_z = 0
-EDGE = ("free", "clamped")
+#: the kinds of end: what each fixes of (r, z, theta) and which of its conjugate forces
+#: (F_r, F_z, M) are given (the rest follow); a pole fixes r = 0 by its regularity
+END_KINDS = {
+    "pole": ("an end on the axis: regular there (equal stretches and curvatures), no point "
+             "force"),
+    "free": "nothing fixed; the forces and the moment given (line loads, default zero)",
+    "clamped": "r, z and theta fixed at the reference's values",
+    "hinged": "r and z fixed; the moment given",
+    "roller": "z fixed; the radial force and the moment given",
+    "symmetry": ("a mirror plane normal to the axis: theta fixed (the tangent parallel to "
+                 "the axis), no shear (F_r = 0), the axial force given"),
+}
+#: the ends that fix the axial position z
+FIXES_Z = ("clamped", "hinged", "roller")
+#: the line loads each kind of end accepts (where it is free to move)
+LOADS_OF = {"pole": (), "free": ("axial", "radial", "moment"), "clamped": (),
+            "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",)}
 
 
 def lam_max(h: float) -> float:
-    """The largest lam = lambda*/mu* a Ciarlet-Geymonat scene of thickness h = h0/R0 admits:
-    ``min(LAM_MAX, LAM_OVER_H2_MAX h**2)`` (3e6 at h = 0.01, 3e4 at h = 1e-3), where the
-    round-off of the lam term's forces, ~ lam eps 12 / h**2 relative to the moment, leaves
-    no cap measured resolvable (see ``LAM_OVER_H2_MAX``: from 1/30 of it some caps stall,
-    with a ConvergenceError). Beyond it a nearly incompressible shell is
-    ``material='nh'``."""
+    """The largest lam = lambda*/mu* a Ciarlet-Geymonat scene of thickness h (over the
+    reference's radius of curvature) admits: ``min(LAM_MAX, LAM_OVER_H2_MAX h**2)`` (3e6 at
+    h = 0.01, 3e4 at h = 1e-3), where the round-off of the lam term's forces, ~ lam eps
+    12 / h**2 relative to the moment, leaves no cap measured resolvable (see
+    ``LAM_OVER_H2_MAX``: from 1/30 of it some caps stall, with a ConvergenceError). Beyond
+    it a nearly incompressible shell is ``material='nh'``."""
     return min(LAM_MAX, LAM_OVER_H2_MAX * h * h)
 
 
-def uniform_curvature(piece, s, kappa):
-    """The cap-eversion stimulus abar = a°, bbar = b° + kappa a°: kb1 = kb2 = kappa - 1.
+def uniform_curvature(x, kappa):
+    """The cap-eversion stimulus abar = a°, bbar = b° + kappa a° (paper eq. (stimulus)):
+    g = 1, kb_a = k_a + kappa, a uniform change kappa of both target curvatures (on the unit
+    sphere kb = kappa - 1; kappa = 2 targets the everted cap). Array arithmetic only."""
+    one = 0.0 * x.s + 1.0
+    return one, one, x.k1 + kappa, x.k2 + kappa
 
-    Written with arithmetic only, so that it works on numpy and JAX arrays alike (the
-    shooting back-end traces the fields inside its vector field).
+
+def _constant(value):
+    """A load that is the same at every parameter value (a number given where a function of
+    p is expected)."""
+    v = float(value)
+    return lambda p: 0.0 * p + v
+
+
+@dataclass(frozen=True)
+class End:
+    """What holds one end of the meridian (:data:`END_KINDS`), and the line loads on it.
+
+    Attributes:
+        kind: ``"pole"``, ``"free"``, ``"clamped"``, ``"hinged"``, ``"roller"`` or
+            ``"symmetry"``.
+        axial, radial: line forces per unit length of the reference edge along +z and +r
+            (per mu* h: a force per length over mu* h is a pure number), functions of the
+            parameter p (a number: constant), or None (zero); only where the end is free to
+            move that way (:data:`LOADS_OF`).
+        moment: line moment per unit length of the reference edge (per mu* h R), positive
+            where it turns the meridian's tangent counterclockwise in the (r, z) plane
+            (from +r toward +z); a function of p, a number or None.
     """
-    one = 0.0 * s + 1.0
-    return one, one, (kappa - 1.0) * one, (kappa - 1.0) * one
+
+    kind: str
+    axial: Callable | float | None = None
+    radial: Callable | float | None = None
+    moment: Callable | float | None = None
+
+    def __post_init__(self):
+        checks.check_choice("end kind", self.kind, tuple(END_KINDS))
+        for name in ("axial", "radial", "moment"):
+            value = getattr(self, name)
+            if value is None:
+                continue
+            if name not in LOADS_OF[self.kind]:
+                raise ValueError(
+                    f"a {self.kind} end takes no {name} load ({END_KINDS[self.kind]}); "
+                    f"loads it takes: {', '.join(LOADS_OF[self.kind]) or 'none'}")
+            if isinstance(value, (int, float, np.floating, np.integer)):
+                checks.check_finite(name, value)
+                object.__setattr__(self, name, _constant(value))
+            elif not callable(value):
+                raise ValueError(f"{name} load must be a number or a function of the "
+                                 f"parameter, got {type(value).__name__}")
+
+    @property
+    def fixes_z(self) -> bool:
+        return self.kind in FIXES_Z
+
+    @property
+    def loaded(self) -> bool:
+        return any(getattr(self, n) is not None for n in ("axial", "radial", "moment"))
 
 
-def call_fields(fields, piece, s, p, c):
-    """``fields(piece, s, p, c)``, or ``fields(piece, s, p)`` where the field parameters c
-    are empty: the one place that decides how a scene's fields are called (by NumPy or
-    traced by JAX, c then an array of static length)."""
-    return fields(piece, s, p, c) if len(c) else fields(piece, s, p)
+def _as_end(value, which) -> End:
+    if isinstance(value, End):
+        return value
+    if isinstance(value, str):
+        return End(value)
+    raise ValueError(f"ends[{which}] must be an End or one of {tuple(END_KINDS)}, got "
+                     f"{value!r}")
 
 
 @dataclass(frozen=True)
 class Scene:
-    """A spherical cap problem (all lengths in R0).
+    """A shell of revolution and what acts on it (module docstring).
 
     Attributes:
-        theta: opening half-angle Theta in (0, pi).
-        h: thickness h0/R0 in (0, 1).
-        lam: lambda*/mu* in (0, :func:`lam_max` (h)] (Ciarlet-Geymonat only: other
-            materials refuse a value other than the default 1.0); at most 1e8 and at most
-            3e10 h^2, beyond which the lam term's round-off swamps the bending equations.
+        geometry: the reference meridian (:class:`shellbvp.geometry.Meridian`).
+        h: reference thickness, in the geometry's unit, in (``H_MIN`` R_c, R_c) with R_c the
+            reference's smallest radius of curvature (:attr:`curvature_radius`).
+        lam: lambda*/mu* in (0, :func:`lam_max` (h / R_c)] (Ciarlet-Geymonat only: other
+            materials refuse a value other than the default 1.0).
         model, material: as in :func:`shellbvp.energy_density`; ``model`` applies to
             ``material="cg"`` only (other materials refuse ``"plane_strain"``).
-        rhob1: through-thickness stimulus (> 0; rhob2 = rhob3 = 0).
-        apex: ``"held"`` (z(0) = 0) or ``"free"`` (no point force at the apex, F_z = 0).
-        edge: ``"free"`` (M = F_r = F_z = 0) or ``"clamped"`` (r, z, theta at reference values).
-        fields: ``fields(piece, s, p) -> (g1, g2, kb1, kb2)``, or
-            ``fields(piece, s, p, c)`` with ``field_parameters``.
+        ends: (first, second): :class:`End` or kind names; default ``("pole", "free")`` where
+            the first end is on the axis, else ``("free", "free")``. An end on the axis must
+            be a ``pole`` and a pole must be on the axis.
+        fields: the stimulus ``fields(x, p[, c]) -> (g1, g2, kb1, kb2)`` of the reference
+            point x (:class:`ReferencePoint`), or None (target = reference).
+        through_thickness: ``(x, p[, c]) -> (rhob1, rhob2, rhob3)`` or None ((1, 0, 0)).
+        thickness: ``t(x)``, the thickness profile (thickness h t, t > 0), or None (t = 1).
         field_parameters: numbers c the fields depend on besides p, passed to them as an
-            array ``c`` (empty: fields take three arguments). They are arguments of the
+            array ``c`` (empty: fields take two arguments). They are arguments of the
             compiled programs, not constants folded into them: scenes that differ only in
-            c share their compiled code (a sweep over a stimulus' amplitude or anisotropy
-            compiles once).
-        pressure: ``pressure(p) -> P``, a uniform external pressure on the deformed surface
-            in mu* h0 / R0 (a follower load; positive toward the centre of curvature of the
-            undeformed cap, i.e. pushing the apex down), or None (no load). Its potential
-            P V, with V the volume between the surface and the plane of its edge, enters
-            the energy (:mod:`shellbvp.euler_lagrange`); meaningful with a clamped edge,
-            whose plane is fixed. Array arithmetic only, like ``fields``.
-        breaks: interior interfaces of the piecewise fields, increasing, inside (0, theta).
+            c share their compiled code (a sweep over a stimulus' amplitude compiles once).
+        pressure: ``pressure(p) -> P``, a uniform follower pressure on the deformed surface,
+            in mu* h / R, along -n (n the outward normal: positive P pushes a cap traced
+            from its apex toward its centre of curvature), or None. Its potential P V, V the
+            volume between the surface and the plane of its end, enters the energy
+            (:mod:`shellbvp.euler_lagrange`): conservative for a closed shell and for ends
+            whose plane is fixed (clamped, hinged, roller).
+        breaks: interior interfaces of the piecewise fields (arclength), increasing, inside
+            (0, L), not on a joint of the geometry.
         metric: whether the fields change the metric (g != 1).
         parameter: name of the scalar stimulus parameter p.
-        parameter_unit: how p is made dimensionless, for column names: ``"R0"`` (the
-            default, p R0 for a curvature such as kappa), ``""`` (p is a pure number, e.g.
-            budding's kbar), or e.g. ``"R0_over_mu_h0"`` (a pressure, p R0 / (mu* h0)).
-        nu: Poisson ratio of the Koiter reference model (``material="koiter"`` only: other
-            materials refuse a value other than the default 0.5).
+        parameter_unit: how p is made dimensionless, for column names: ``"R0"`` (p R0 for a
+            curvature such as kappa), ``""`` (p is a pure number), or e.g.
+            ``"R0_over_mu_h0"`` (a pressure, p R0 / (mu* h0)).
+        nu: Poisson ratio of the Koiter reference model (``material="koiter"`` only).
+        monitor: the observable that continuation follows and that a branch reports as
+            ``w``: ``"uz"``, ``"ur"`` or ``"rotation"`` of an end, written
+            ``"uz(second)"``, or the relative axial displacement ``"uz(second)-uz(first)"``
+            (the default: the end that does not fix z relative to the one that does,
+            :attr:`monitor_terms`).
     """
 
-    theta: float
+    geometry: Meridian
     h: float
     lam: float = 1.0
     model: str = "relaxed"
     material: str = "cg"
-    rhob1: float = 1.0
-    apex: str = "held"
-    edge: str = "free"
-    fields: Callable = uniform_curvature
+    ends: tuple | None = None
+    fields: Callable | None = None
+    through_thickness: Callable | None = None
+    thickness: Callable | None = None
     breaks: tuple = ()
     metric: bool = False
-    parameter: str = "kappa"
-    parameter_unit: str = "R0"
+    parameter: str = "p"
+    parameter_unit: str = ""
     nu: float = 0.5
     pressure: Callable | None = None
     field_parameters: tuple = ()
+    monitor: str | None = None
 
     @property
     def material_parameter(self) -> float:
@@ -142,12 +241,16 @@ class Scene:
         return material_parameter(self.material, self.lam, self.nu)
 
     def __post_init__(self):
-        checks.check_open_interval("theta", self.theta, THETA_MIN, math.pi,
-                                    " (opening half-angle Theta in radians; below "
-                                    f"{THETA_MIN:g} the rise 1 - cos Theta is lost to round-off)")
-        checks.check_open_interval("h", self.h, H_MIN, 1.0,
-                                   f" (h = h0/R0, h0 < R0; below {H_MIN:g} the edge layer of "
-                                   f"width ~ sqrt(h) is beyond every method's resolution)")
+        if not isinstance(self.geometry, Meridian):
+            raise ValueError(f"geometry must be a shellbvp.geometry.Meridian, got "
+                             f"{type(self.geometry).__name__}")
+        geo = self.geometry
+        Rc = self.curvature_radius
+        checks.check_open_interval("h", self.h, H_MIN * Rc, Rc,
+                                   f" (the thickness, below the reference's smallest radius "
+                                   f"of curvature {Rc:.4g}; below {H_MIN:g} of it the edge "
+                                   f"layer of width ~ sqrt(h R) is beyond every method's "
+                                   f"resolution)")
         checks.check_choice("model", self.model, MODELS)
         checks.check_choice("material", self.material, MATERIALS)
         # a parameter the material does not use must stay at its default (absent): a value
@@ -165,31 +268,36 @@ class Scene:
                                        " (lambda*/mu*; beyond, the bulk term swamps the "
                                        "shear one in double precision: use material='nh' for "
                                        "an incompressible shell)")
-            resolvable = lam_max(self.h)
+            resolvable = lam_max(self.h / Rc)
             if self.lam > resolvable:
                 raise ValueError(
                     f"lam = {self.lam:g} is beyond what double precision resolves at "
                     f"h = {self.h:g}: lam must lie in (0, {resolvable:.3g}] there "
-                    f"({LAM_OVER_H2_MAX:g} h^2: the forces of the lam term carry round-off "
-                    f"~ lam eps and enter beside the moment scaled by 12/h^2). For a nearly "
-                    f"incompressible shell use material='nh', the limit lam -> infinity "
-                    f"(kappa_s of a cap approaches it like 1/lam)")
+                    f"({LAM_OVER_H2_MAX:g} (h/R_c)^2: the forces of the lam term carry "
+                    f"round-off ~ lam eps and enter beside the moment scaled by 12/h^2). For "
+                    f"a nearly incompressible shell use material='nh', the limit "
+                    f"lam -> infinity (kappa_s of a cap approaches it like 1/lam)")
         if self.material == "koiter":
             checks.check_open_interval("nu", self.nu, -1.0, 1.0, " (Poisson ratio)")
-        checks.check_positive("rhob1", self.rhob1)
         for name in ("parameter", "parameter_unit"):
             if not isinstance(getattr(self, name), str):
                 raise ValueError(f"{name} must be a string, got {getattr(self, name)!r}")
-        checks.check_choice("apex", self.apex, APEX)
-        checks.check_choice("edge", self.edge, EDGE)
-        if self.pressure is not None and not callable(self.pressure):
-            raise ValueError(f"pressure must be a callable p -> pressure or None, got "
-                             f"{type(self.pressure).__name__}")
+        for name in ("fields", "through_thickness", "thickness", "pressure"):
+            value = getattr(self, name)
+            if value is not None and not callable(value):
+                raise ValueError(f"{name} must be a function or None, got "
+                                 f"{type(value).__name__}")
+        self._check_ends(geo)
         b = np.asarray(self.breaks, dtype=float)
-        if b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0 or b[-1] >= self.theta
-                       or not np.all(np.isfinite(b))):
-            raise ValueError(f"breaks must increase strictly inside (0, theta), "
-                             f"got {self.breaks!r}")
+        if b.ndim != 1 or (b.size and (np.any(np.diff(b) <= 0) or b[0] <= 0
+                                       or b[-1] >= geo.length or not np.all(np.isfinite(b)))):
+            raise ValueError(f"breaks must increase strictly inside (0, {geo.length:.6g}) "
+                             f"(arclength of the meridian), got {self.breaks!r}")
+        near = [float(x) for x in b for j in geo.joints
+                if abs(x - j) <= 1e-9 * geo.length]
+        if near:
+            raise ValueError(f"breaks {near} lie on joints of the geometry (already "
+                             f"interfaces: {tuple(float(j) for j in geo.joints)})")
         object.__setattr__(self, "breaks", tuple(float(x) for x in b))
         c = np.asarray(self.field_parameters, dtype=float) \
             if isinstance(self.field_parameters, (tuple, list, np.ndarray)) else None
@@ -197,6 +305,86 @@ class Scene:
             raise ValueError(f"field_parameters must be a tuple of finite numbers, got "
                              f"{self.field_parameters!r}")
         object.__setattr__(self, "field_parameters", tuple(float(x) for x in c))
+        if self.monitor is not None:
+            self.monitor_terms            # parses and checks the monitor
+
+    def _check_ends(self, geo):
+        if self.ends is None:
+            ends = ("pole" if geo.poles[0] else "free", "pole" if geo.poles[1] else "free")
+        else:
+            if not (isinstance(self.ends, (tuple, list)) and len(self.ends) == 2):
+                raise ValueError(f"ends must be a pair (first, second), got {self.ends!r}")
+            ends = tuple(self.ends)
+        ends = tuple(_as_end(e, k) for k, e in zip(("first", "second"), ends))
+        for which, end, pole in zip(("first", "second"), ends, geo.poles):
+            if pole and end.kind != "pole":
+                raise ValueError(f"the {which} end of the meridian is on the axis (r = 0): it "
+                                 f"must be a 'pole', got {end.kind!r}")
+            if end.kind == "pole" and not pole:
+                r0 = geo.at_end(which)[0]
+                raise ValueError(f"the {which} end is a 'pole' but lies at r = {r0:.6g}, not "
+                                 f"on the axis: choose free, clamped, hinged, roller or "
+                                 f"symmetry")
+            if end.kind == "symmetry":
+                theta0 = geo.at_end(which)[2]
+                if abs(math.cos(theta0)) > 1e-9:
+                    raise ValueError(
+                        f"a symmetry end needs the reference tangent parallel to the axis "
+                        f"there (a mirror plane normal to the axis); the {which} end's "
+                        f"tangent makes {math.degrees(theta0):.6g} degrees with the plane")
+        object.__setattr__(self, "ends", ends)
+
+    # --- derived data ---------------------------------------------------------------------
+    @property
+    def length(self) -> float:
+        """The meridian's arclength L."""
+        return self.geometry.length
+
+    @property
+    def curvature_radius(self) -> float:
+        """The reference's smallest radius of curvature 1 / max |k_a| over the meridian (its
+        length where it is flat): the length the thickness is small against."""
+        return curvature_radius(self.geometry)
+
+    @property
+    def shallowness(self) -> float:
+        """T = L / sqrt(h R_c): the meridian's length in widths of the bending layer
+        (Theta / sqrt(h) for a cap of the unit sphere), which sets the resolution the
+        methods need."""
+        return self.length / math.sqrt(self.h * self.curvature_radius)
+
+    @property
+    def pinned(self) -> int | None:
+        """The end (0 first, 1 second) whose axial position is held to remove the axial
+        translation where no end fixes z (the first; its axial force is then a reaction,
+        zero when the loads balance), or None."""
+        return None if any(e.fixes_z for e in self.ends) else 0
+
+    @property
+    def monitor_terms(self) -> tuple:
+        """The monitor as ((coefficient, component, end), ...), components ``"z"``,
+        ``"r"``, ``"theta"`` of the displacement from the reference at end 0 (first) or 1
+        (second); default (:attr:`monitor` None): the axial displacement of the end that does
+        not fix z relative to one that does (the pinned end counting as fixed), or of the
+        second end relative to the first."""
+        if self.monitor is None:
+            fixed = [e.fixes_z for e in self.ends]
+            if self.pinned is not None:
+                fixed[self.pinned] = True
+            if fixed == [True, False]:
+                return ((1.0, "z", 1), (-1.0, "z", 0))
+            if fixed == [False, True]:
+                return ((1.0, "z", 0), (-1.0, "z", 1))
+            return ((1.0, "z", 1), (-1.0, "z", 0))
+        return _parse_monitor(self.monitor)
+
+    @property
+    def monitor_scale(self) -> float:
+        """The length the monitor is measured in (continuation steps in its units): the
+        reference's rise |z0(L) - z0(0)| (1 - cos Theta for a cap), or the thickness where
+        the meridian has no rise (a plate, an annulus)."""
+        rise = self.geometry.rise
+        return rise if rise > 1e-12 * self.geometry.size else float(self.h)
 
     @property
     def parameter_column(self) -> str:
@@ -205,36 +393,132 @@ class Scene:
             else self.parameter
 
     @property
+    def interfaces(self) -> np.ndarray:
+        """Every interior interface of the pieces, in s: the joints of the geometry and the
+        breaks of the fields, merged."""
+        return np.array(sorted(tuple(float(j) for j in self.geometry.joints) + self.breaks))
+
+    @property
     def pieces(self) -> int:
-        return len(self.breaks) + 1
+        return len(self.interfaces) + 1
+
+    @property
+    def through_thickness_stimulus(self) -> bool:
+        return self.through_thickness is not None
+
+    @property
+    def varying_thickness(self) -> bool:
+        return self.thickness is not None
+
+    @property
+    def uses_metric(self) -> bool:
+        """Whether the compiled equations need the g terms (a metric stimulus)."""
+        return bool(self.metric)
+
+    def with_length(self, length: float) -> "Scene":
+        """The same scene on the meridian extended or shortened at its second end
+        (:meth:`shellbvp.geometry.Meridian.with_length`): a cap of another opening angle."""
+        return dataclasses.replace(self, geometry=self.geometry.with_length(float(length)))
 
     def field_values(self, piece, s, p):
-        """(g1, g2, kb1, kb2) on piece ``piece`` at s and parameter p: ``fields`` called
-        with the scene's ``field_parameters`` where it has any."""
-        return call_fields(self.fields, piece, s, p, np.asarray(self.field_parameters))
+        """(g1, g2, kb1, kb2) on piece ``piece`` at s and parameter p (numpy)."""
+        from . import kinematics as K
+
+        F = point_fields(self, piece, np.asarray(s, dtype=float), p,
+                         np.asarray(self.field_parameters), np)
+        return F[K.G1], F[K.G2], F[K.KB1], F[K.KB2]
 
     def fields_admissible(self, F) -> bool:
-        """Whether field values F (..., k), (g1, g2, kb1, kb2[, pressure]) along the last
-        axis, are all admissible (finite, g > 0, g = 1 without metric stimulus): the cheap
-        test of every evaluation; :meth:`check_fields` names what fails."""
+        """Whether field values F (..., k), the fields (:data:`shellbvp.kinematics.FIELDS`)
+        along the last axis, are all admissible (finite, g > 0 and g = 1 without metric
+        stimulus, thickness and rhob1 > 0): the cheap test of every evaluation;
+        :meth:`check_fields` names what fails."""
         g = F[..., :2]
-        # g == 1 (no metric stimulus) or g > 0 is False for nan: one pass over g, one over F
-        return bool(((g > 0) if self.metric else (g == 1)).all() and np.isfinite(F).all())
+        ok = ((g > 0) if self.metric else (g == 1)).all() and np.isfinite(F).all()
+        if ok and F.shape[-1] > 6:
+            ok = bool((F[..., 6] > 0).all() and (F[..., 7] > 0).all())
+        return bool(ok)
 
     def check_fields(self, out, piece, p):
-        """Raise a named ValueError unless the fields (g1, g2, kb1, kb2[, pressure]) are
-        admissible."""
+        """Raise a named ValueError unless the fields F (:data:`shellbvp.kinematics.FIELDS`
+        along the first axis) are admissible."""
+        from .kinematics import FIELDS
+
         F = np.asarray(out, dtype=float)
         if self.fields_admissible(F.T):
             return out      # the common case, checked at once
-        names = ("g1", "g2", "kb1", "kb2", "pressure")
-        for n, v in zip(names, F):
+        for n, v in zip(FIELDS, F):
             if not np.all(np.isfinite(v)):
-                raise ValueError(f"stimulus field {n} must be finite (piece {piece}, "
+                raise ValueError(f"field {n} must be finite (piece {piece}, "
                                  f"{self.parameter} = {p!r})")
         if np.any(F[0] <= 0) or np.any(F[1] <= 0):
             raise ValueError("stimulus fields g1, g2 must be > 0")
+        if len(F) > 6 and np.any(F[6] <= 0):
+            raise ValueError(f"the thickness profile must be > 0 along the meridian (piece "
+                             f"{piece}); a thickness that vanishes is beyond the first-order "
+                             f"form: give a small positive thickness there")
+        if len(F) > 7 and np.any(F[7] <= 0):
+            raise ValueError("through-thickness stimulus rhob1 must be > 0")
         raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")
+
+
+@lru_cache(maxsize=256)
+def curvature_radius(geometry: Meridian) -> float:
+    """1 / max |k_a| of the reference over a sample of every segment (both principal
+    curvatures, :meth:`shellbvp.geometry.Meridian.curvatures`), or the meridian's length
+    where it is flat everywhere."""
+    starts = geometry.segment_starts
+    kmax = 0.0
+    for k, seg in enumerate(geometry.segments):
+        s = starts[k] + seg.length * np.linspace(0.0, 1.0, 65)
+        s[-1] = np.nextafter(s[-1], -np.inf) if k < len(geometry.segments) - 1 else s[-1]
+        k1, k2 = geometry.curvatures(s)
+        kmax = max(kmax, float(np.max(np.abs(k1))), float(np.max(np.abs(k2))))
+    return 1.0 / kmax if kmax > 0 else float(geometry.length)
+
+
+def _parse_monitor(text) -> tuple:
+    """``"uz(second)"``, ``"ur(first)"``, ``"rotation(second)"`` or a difference of two such
+    -> ((coefficient, component, end), ...)."""
+    comps = {"uz": "z", "ur": "r", "rotation": "theta"}
+    ends = {"first": 0, "second": 1}
+    if not isinstance(text, str):
+        raise ValueError(f"monitor must be a string such as 'uz(second)', got {text!r}")
+    terms, sign, rest = [], 1.0, text.replace(" ", "")
+    while rest:
+        for name in comps:
+            for end in ends:
+                token = f"{name}({end})"
+                if rest.startswith(token):
+                    terms.append((sign, comps[name], ends[end]))
+                    rest = rest[len(token):]
+                    break
+            else:
+                continue
+            break
+        else:
+            raise ValueError(f"monitor {text!r}: expected uz, ur or rotation of first or "
+                             f"second, e.g. 'uz(second)' or 'uz(second)-uz(first)'")
+        if rest:
+            if rest[0] not in "+-" or len(terms) >= 2:
+                raise ValueError(f"monitor {text!r}: at most a difference or sum of two end "
+                                 f"values, e.g. 'uz(second)-uz(first)'")
+            sign, rest = (1.0 if rest[0] == "+" else -1.0), rest[1:]
+    return tuple(terms)
+
+
+def cap(theta, h, *, ends=("pole", "free"), fields=uniform_curvature, parameter="kappa",
+        parameter_unit="R0", **kwargs) -> Scene:
+    """A spherical cap of the unit sphere (lengths in its radius R0), opening half-angle
+    theta, traced from its apex (at z = 0) to its edge: by default the everting cap of the
+    paper's Section 5.2 (apex a pole, free edge, stimulus :func:`uniform_curvature` in
+    kappa). Keyword arguments are the :class:`Scene`'s; ``theta`` must lie in
+    (``THETA_MIN``, pi)."""
+    checks.check_open_interval("theta", theta, THETA_MIN, math.pi,
+                               " (opening half-angle Theta in radians; below "
+                               f"{THETA_MIN:g} the rise 1 - cos Theta is lost to round-off)")
+    return Scene(geometry=spherical_cap(theta), h=h, ends=ends, fields=fields,
+                 parameter=parameter, parameter_unit=parameter_unit, **kwargs)
 
 
 #: the defaults of the material-dependent fields (Scene's own), which mean "absent" where a

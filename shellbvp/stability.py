@@ -3,22 +3,26 @@ own, independently of the Euler-Lagrange system the equilibrium was solved from.
 
 The energy of the axisymmetric shell is a functional of the meridian's tangent angle theta(s)
 and meridional stretch lam1(s) (relative to the target metric); r follows from
-r' = g1 lam1 cos(theta) with the regular apex r ~ g1 lam1 s, and
+r' = g1 lam1 cos(theta) (from the regular pole r ~ g1 lam1 r0, or from its value r_a at a
+first end off the axis, then an unknown too), and
 
-    E = 2 pi int W(lam1, r / (g2 sin s), -theta' / (g1 lam1), -sin(theta) / r) g1 g2 sin s ds
-        + pi P int r^2 g1 lam1 sin(theta) ds                     (P: the pressure, if any)
+    E = 2 pi int t W(lam1, r / (g2 r0), -theta' / (g1 lam1), -sin(theta) / r) g1 g2 r0 ds
+        + pi P int r^2 g1 lam1 sin(theta) ds - (work of the end loads)
 
-(:mod:`shellbvp.euler_lagrange`). Here theta and lam1 are the unknowns at the Chebyshev points
-of every piece (lam1 may jump at an interface, theta may not), E is evaluated by
-Clenshaw-Curtis quadrature with r from spectral integration, and its Hessian is taken by JAX.
-The constraints (regular apex theta = s theta', continuity of theta at interfaces, and for a
-clamped edge theta(Theta) = Theta and r(Theta) = sin Theta) enter through the Hessian of the
-Lagrangian on their tangent space, with multipliers from the gradient (least squares). The
-eigenvalues of that reduced Hessian against the quadrature mass of the surface are the
-discrete second variation: all positive at a stable equilibrium, one crossing zero at a fold
-or bifurcation. Where the reduced energy loses ellipticity (the Legendre condition,
-:mod:`shellbvp.ellipticity`) the continuum second variation is unbounded below: a negative
-eigenvalue appears whose value grows and whose mode narrows as the resolution grows.
+(:mod:`shellbvp.kinematics`; P the pressure, if any). Here theta and lam1 are the unknowns
+at the Chebyshev points of every piece (lam1 may jump at an interface, theta may not but
+for a kink of the geometry, where it turns by the reference's angle), E is evaluated by
+Clenshaw-Curtis quadrature with r from spectral integration, and its Hessian is taken by
+JAX. The constraints (regular poles theta - theta_pole = (s - s_pole) theta', the
+interfaces, and the ends' fixed values: r and theta at a clamped end, r at a hinged one,
+theta at a symmetry end, and where both ends hold z their distance int g1 lam1 sin(theta)
+ds) enter through the Hessian of the Lagrangian on their tangent space, with multipliers
+from the gradient (least squares). The eigenvalues of that reduced Hessian against the
+quadrature mass of the surface are the discrete second variation: all positive at a stable
+equilibrium, one crossing zero at a fold or bifurcation. Where the reduced energy loses
+ellipticity (the Legendre condition, :mod:`shellbvp.ellipticity`) the continuum second
+variation is unbounded below: a negative eigenvalue appears whose value grows and whose
+mode narrows as the resolution grows.
 """
 
 from __future__ import annotations
@@ -104,8 +108,10 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     from .jaxsetup import jax
     import jax.numpy as jnp
 
+    from . import kinematics as K
     from .bvp import ShellBVP
     from .compiled import energy_function
+    from .fields import point_fields
     from .methods.chebyshev import chebyshev_points, default_nodes, differentiation_matrix
 
     if not (isinstance(eq, Equilibrium) and eq.success):
@@ -120,41 +126,70 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     P, t = bvp.P, chebyshev_points(N)
     L = bvp.lengths
     s = np.stack([bvp.s_of(i, t) for i in range(P)])                   # (P, N + 1)
-    F = np.stack([np.broadcast_to(np.asarray(sc.field_values(i, s[i], eq.p), float), (4, N + 1))
-                  for i in range(P)])                                     # (P, 4, N + 1)
-    g1, g2, kb1, kb2 = (jnp.asarray(F[:, k]) for k in range(4))
+    c = np.asarray(sc.field_parameters, dtype=float)
+    F = jnp.asarray(np.stack([point_fields(sc, i, s[i], eq.p, c, np) for i in range(P)],
+                             axis=1))                                # (fields, P, N + 1)
     pressure = 0.0 if sc.pressure is None else float(sc.pressure(eq.p))
     D, Q, w = differentiation_matrix(N), _cumulative(N), _clenshaw_curtis(N)
-    W = energy_function(sc.model, sc.material, sc.rhob1)
-    mat, h, eps, clamped = sc.material_parameter, sc.h, bvp.eps, sc.edge == "clamped"
-    sin_s = jnp.asarray(np.sin(s))
+    W = energy_function(sc.model, sc.material, sc.through_thickness_stimulus)
+    mat, h = sc.material_parameter, sc.h
     n = P * (N + 1)
+    geo = sc.geometry
+    ref = [geo.at_end(which) for which in ("first", "second")]
+    kinds = tuple(e.kind for e in sc.ends)
+    pole_first = kinds[0] == "pole"
+    loads = _end_loads(sc, eq.p, ref)
 
     def shape(v):
-        th, l1 = v[:n].reshape(P, N + 1), v[n:].reshape(P, N + 1)
-        r_start = g1[0, 0] * l1[0, 0] * math.sin(eps)
+        th, l1 = v[:n].reshape(P, N + 1), v[n:2 * n].reshape(P, N + 1)
+        lam = F[K.G1] * l1
+        r_start = lam[0, 0] * F[K.R0][0, 0] if pole_first else v[2 * n]
         rs = []
         for i in range(P):
-            r_i = r_start + L[i] * (Q @ (g1[i] * l1[i] * jnp.cos(th[i])))
+            r_i = r_start + L[i] * (Q @ (lam[i] * jnp.cos(th[i])))
             rs.append(r_i)
             r_start = r_i[-1]
         return th, l1, jnp.stack(rs)
 
+    def drop(th, l1):
+        return jnp.sum(jnp.asarray(L)[:, None] * w * F[K.G1] * l1 * jnp.sin(th))
+
     def energy(v):
         th, l1, r = shape(v)
         dth = jnp.stack([D @ th[i] / L[i] for i in range(P)])
-        dens = W(l1, r / (g2 * sin_s), -dth / (g1 * l1), -jnp.sin(th) / r, kb1, kb2, mat, h)
-        E = 2 * math.pi * jnp.sum(jnp.asarray(L)[:, None] * w * dens * g1 * g2 * sin_s)
-        load = math.pi * pressure * jnp.sum(jnp.asarray(L)[:, None] * w * r**2 * g1 * l1
-                                            * jnp.sin(th))
-        return E + load
+        X = K.principal_state(r, th, F[K.G1] * l1, dth, F[K.R0], F[K.G1], F[K.G2], jnp)
+        dens = K.energy_per_length(W, X, F, mat, h)
+        E = 2 * math.pi * jnp.sum(jnp.asarray(L)[:, None] * w * dens)
+        load = math.pi * pressure * jnp.sum(jnp.asarray(L)[:, None] * w * r**2 * F[K.G1]
+                                            * l1 * jnp.sin(th))
+        # the end loads' work: radial forces and moments on the ends' r and theta, the axial
+        # one through the drop of the end that is not held
+        ends = ((r[0, 0], th[0, 0]), (r[-1, -1], th[-1, -1]))
+        work = sum(Q[0] * ends[k][0] + Q[2] * ends[k][1] for k, Q in enumerate(loads))
+        held_second = sc.ends[1].fixes_z and not sc.ends[0].fixes_z
+        work = work + (-loads[0][1] if held_second else loads[1][1]) * drop(th, l1)
+        return E + load - 2 * math.pi * work
 
     def constraints(v):
-        th, _, r = shape(v)
-        rows = [th[0, 0] - s[0, 0] * (D[0] @ th[0]) / L[0]]           # regular apex
-        rows += [th[i, -1] - th[i + 1, 0] for i in range(P - 1)]      # interfaces
-        if clamped:
-            rows += [th[-1, -1] - sc.theta, r[-1, -1] - math.sin(sc.theta)]
+        th, l1, r = shape(v)
+        rows = []
+        if pole_first:
+            rows.append(th[0, 0] - (s[0, 0] - 0.0) * (D[0] @ th[0]) / L[0])
+        if kinds[1] == "pole":
+            # the meridian closes on the axis: regular (r ~ g1 lam1 r0), tangent at a right
+            # angle to it
+            rows.append(th[-1, -1] - math.pi - (s[-1, -1] - sc.length) * (D[-1] @ th[-1])
+                        / L[-1])
+            rows.append(r[-1, -1] - F[K.G1][-1, -1] * l1[-1, -1] * F[K.R0][-1, -1])
+        rows += [th[i + 1, 0] - th[i, -1] - bvp.jumps[i, 2] for i in range(P - 1)]
+        for k, (i, j) in enumerate(((0, 0), (-1, -1))):
+            r0, _, th0 = ref[k]
+            if kinds[k] in ("clamped", "symmetry"):
+                rows.append(th[i, j] - th0)
+            if kinds[k] in ("clamped", "hinged"):
+                rows.append(r[i, j] - r0)
+        if all(e.fixes_z for e in sc.ends):
+            rows.append(drop(th, l1) - (ref[0][1] - ref[1][1]))
         return jnp.stack(rows)
 
     # the state at the nodes, from the equilibrium's own interpolant and inner roots
@@ -162,8 +197,11 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     # the equilibrium's inner roots, interpolated, start the inner solves at these points
     hint = np.stack([np.stack([np.interp(s[i], eq.s, eq.lam1), np.interp(s[i], eq.s, eq.k1)],
                               axis=-1) for i in range(P)])
-    X, _ = bvp.state(s, Y, eq.p, hint)
-    v0 = jnp.asarray(np.concatenate([Y[:, 2].ravel(), X[:, 0].ravel()]))
+    X0, _ = bvp.state(s, Y, eq.p, hint)
+    parts = [Y[:, 2].ravel(), X0[:, 0].ravel()]
+    if not pole_first:
+        parts.append([Y[0, 0, 0]])
+    v0 = jnp.asarray(np.concatenate(parts))
     grad = np.asarray(jax.grad(energy)(v0))
     A = np.asarray(jax.jacfwd(constraints)(v0))
     mu = np.linalg.lstsq(A.T, grad, rcond=None)[0]
@@ -172,18 +210,37 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     from scipy.linalg import eigh, null_space
 
     Z = null_space(A)
-    # the mass of the surface's L2 norm (area element g1 g2 sin s): with plain quadrature
-    # weights a mode crowded onto the apex costs energy ~ s but keeps full mass, and the
-    # smallest eigenvalue falls with the resolution for no physical reason
-    mass = np.tile((L[:, None] * w[None, :] * F[:, 0] * F[:, 1] * np.sin(s)).ravel(), 2)
-    K = Z.T @ Hess @ Z
+    # the mass of the surface's L2 norm (area element g1 g2 r0): with plain quadrature
+    # weights a mode crowded onto a pole costs energy ~ s but keeps full mass, and the
+    # smallest eigenvalue falls with the resolution for no physical reason; the first
+    # end's radius (off the axis) weighs as its end's area
+    area = np.asarray(F[K.G1] * F[K.G2] * F[K.R0])
+    mass = np.tile((L[:, None] * w[None, :] * area).ravel(), 2)
+    if not pole_first:
+        mass = np.append(mass, L[0] * w[0] * area[0, 0])
+    K_ = Z.T @ Hess @ Z
     M = Z.T @ (mass[:, None] * Z)
-    vals, vecs = eigh((K + K.T) / 2, M, subset_by_index=[0, min(count, K.shape[0]) - 1])
+    vals, vecs = eigh((K_ + K_.T) / 2, M, subset_by_index=[0, min(count, K_.shape[0]) - 1])
     modes = Z @ vecs
     modes /= np.sqrt(np.sum(mass[:, None] * modes**2, axis=0))
     return SecondVariation(eigenvalues=vals, s=s.ravel(), theta_modes=modes[:n].T,
-                           lam1_modes=modes[n:].T, nodes=int(N),
+                           lam1_modes=modes[n:2 * n].T, nodes=int(N),
                            projected_gradient=float(np.linalg.norm(Z.T @ grad)))
+
+
+def _end_loads(scene, p, ref) -> tuple:
+    """Per end, its line loads' conjugate forces per radian (Q_r, Q_z, Q_theta) at p: the
+    load per unit reference length times r0 there, Q_theta = -moment r0 (a counterclockwise
+    moment turns theta negatively)."""
+    out = []
+    for k, end in enumerate(scene.ends):
+        r0 = float(ref[k][0])
+        Q = []
+        for name, sign in (("radial", 1.0), ("axial", 1.0), ("moment", -1.0)):
+            load = getattr(end, name)
+            Q.append(0.0 if load is None else sign * r0 * float(load(p)))
+        out.append(tuple(Q))
+    return tuple(out)
 
 
 def stable_point(system, pt) -> str:

@@ -46,7 +46,8 @@ def test_zero_stimulus_is_the_undeformed_cap(eta_a, eta_b):
 
 def test_scene_reads_like_the_paper():
     sc = bd.scene(0.5, 2.0)
-    assert (sc.theta, sc.h, sc.lam, sc.edge, sc.apex) == (math.pi / 8, 0.02, 7.5, "clamped", "free")
+    assert (sc.length, sc.h, sc.lam) == (math.pi / 8, 0.02, 7.5)
+    assert tuple(e.kind for e in sc.ends) == ("pole", "clamped") and sc.pinned is None
     assert sc.breaks == (math.pi / 32,) and sc.metric
     assert not bd.scene(0.0, 1.0).metric
     # the paper's printed pairs ("we set eta_a = 0.63/1.26 = 0.5, 1/1, 1.26/0.63") by
@@ -163,7 +164,7 @@ def _first_variation(eq, directions, n=3000):
             total += simpson(np.imag(W) / d * g1 * g2 * np.sin(s), x=s)
         return 2 * math.pi * total
 
-    T = sc.theta
+    T = sc.length
     # delta theta must vanish at the apex too (theta(0) = 0): every phi is O(s^2) there, or
     # the boundary term M(eps) phi(eps) of the truncated integral (~4e-10 here) remains
     q = math.pi / T

@@ -12,14 +12,14 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from shellbvp import (Chebyshev, Collocation, ContinuationOptions, Scene, Shooting,
+from shellbvp import (Chebyshev, Collocation, ContinuationOptions, Shooting, cap,
                       solve)
 from shellbvp.bvp import ShellBVP
 from shellbvp.continuation import locate_fold, newton, polish_fold, pseudo_arclength
 from shellbvp.problems import cap_eversion as ce
 
 THETA, H0 = math.pi / 6, 0.01
-CAP = Scene(theta=THETA, h=H0, lam=1.0, model="relaxed", material="cg")
+CAP = cap(THETA, H0, lam=1.0, model="relaxed", material="cg")
 RISE = 1.0 - math.cos(THETA)
 LONG = ContinuationOptions(ds=0.5, ds_max=100.0)
 

@@ -145,11 +145,11 @@ def test_compiled_programs_receive_the_options(tmp_path):
 
 
 def test_options_leave_the_energy_jet_unchanged():
-    W = energy_function("relaxed", "cg", 1.0)
+    W = energy_function("relaxed", "cg")
 
     def jet(X, kb, lam, h):
         def w(x):
-            return W(x[0], x[1], x[2], x[3], kb[0], kb[1], lam, h)
+            return W(x[0], x[1], x[2], x[3], kb[0], kb[1], lam, h, 1.0, 0.0, 0.0)
         return jax.grad(w)(X), jax.hessian(w)(X)
 
     f = jax.vmap(jet, in_axes=(0, 0, None, None))

@@ -404,7 +404,7 @@ def test_ladder_estimate_survives_an_error_that_crosses_zero():
     40, 44, 48. A single change within tol = 1e-10 (40 -> 44: 1.1e-11) would have stopped
     at 44 with an estimate below its error; two consecutive changes go on to 48, whose
     estimate (2.2e-11) bounds its error (3.6e-12)."""
-    from dataclasses import dataclass, field
+    from dataclasses import dataclass
 
     from shellbvp.continuation.folds import climb
     from shellbvp.results import Fold

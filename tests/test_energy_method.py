@@ -114,12 +114,6 @@ def test_bad_options_are_named(kwargs, name):
         Ritz(**kwargs)
 
 
-def test_a_point_force_it_cannot_represent_is_refused():
-    sc = shellbvp.Scene(theta=0.5, h=0.01, apex="held", edge="clamped")
-    with pytest.raises(ValueError, match="point force"):
-        shellbvp.solve(sc, 1.0, method="energy")
-
-
 def test_stability_check_needs_a_mid_surface_method(cap):
     with pytest.raises(ValueError, match="check_stability"):
         shellbvp.follow(cap, check_stability=True)

@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 import shellbvp
-from shellbvp import Chebyshev, Collocation, Scene, Shooting, solve
+from shellbvp import Chebyshev, Collocation, Shooting, cap, solve
 from shellbvp.bvp import ShellBVP
 
 THETA = math.pi / 6
-CAP = Scene(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
+CAP = cap(THETA, 0.01, lam=1.0, model="relaxed", material="cg")
 
 
 METHODS = {"collocation": Collocation(tol=1e-8), "shooting": Shooting(rtol=1e-10),
@@ -63,7 +63,7 @@ def first_variation(eq, kappa, phi, dphi, psi, n=4000):
     from scipy.integrate import cumulative_simpson
 
     sc = eq.scene
-    s = np.linspace(eq.s[0], sc.theta, 2 * n + 1)
+    s = np.linspace(eq.s[0], sc.length, 2 * n + 1)
     y = eq.unknowns(s)
     X, _ = ShellBVP(sc).state(s[None, :], y[None], eq.p)
     lam1, k1 = X[0, 0], X[0, 2]
@@ -161,11 +161,12 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
     sb = THETA / 4
     k_patch = 3.0
 
-    def patch(piece, s, p):
-        one = 0.0 * s + 1.0
-        return one, one, (p - 1.0) * one if piece == 0 else -one, (p - 1.0) * one if piece == 0 else -one
+    def patch(x, p):
+        one = 0.0 * x.s + 1.0
+        kb = (p - 1.0) * one if x.piece == 0 else -one
+        return one, one, kb, kb
 
-    exact = Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=patch, breaks=(sb,))
+    exact = cap(THETA, 0.01, ends=("pole", "clamped"), fields=patch, breaks=(sb,))
     coll = Collocation(tol=1e-8)
     ref = solve(exact, k_patch, method=coll, estimate_error=False)
     # the spectral method on the same two-piece scene agrees with solve_bvp's mesh
@@ -174,13 +175,13 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
     assert np.max(np.abs(spec(grid)[:3] - ref(grid)[:3])) < 1e-7 and spec.error_estimate < 1e-9
     diffs = []
     for width in (0.02, 0.01, 0.005):
-        def smooth(piece, s, p, width=width):
-            step = 0.5 * (1 - jnp.tanh((s - sb) / width))   # fields are traced by JAX
-            one = 0.0 * s + 1.0
+        def smooth(x, p, width=width):
+            step = 0.5 * (1 - jnp.tanh((x.s - sb) / width))   # fields are traced by JAX
+            one = 0.0 * x.s + 1.0
             kb = -one + p * step
             return one, one, kb, kb
 
-        sm = solve(Scene(theta=THETA, h=0.01, apex="free", edge="clamped", fields=smooth),
+        sm = solve(cap(THETA, 0.01, ends=("pole", "clamped"), fields=smooth),
                    k_patch, method=coll, estimate_error=False)
         grid = np.linspace(ref.s[0], THETA, 500)
         diffs.append(np.max(np.abs(sm(grid)[:3] - ref(grid)[:3])))
@@ -195,8 +196,11 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
 @pytest.mark.parametrize("kwargs,name", [
     (dict(theta=0.0, h=0.01), "theta"), (dict(theta=math.pi, h=0.01), "theta"),
     (dict(theta=0.5, h=0.0), "h"), (dict(theta=0.5, h=1.0), "h"),
-    (dict(theta=0.5, h=0.01, lam=-1.0), "lam"), (dict(theta=0.5, h=0.01, apex="pinned"), "apex"),
-    (dict(theta=0.5, h=0.01, edge="simply"), "edge"),
+    (dict(theta=0.5, h=0.01, lam=-1.0), "lam"),
+    (dict(theta=0.5, h=0.01, ends=("pinned", "free")), "end kind"),
+    (dict(theta=0.5, h=0.01, ends=("pole", "simply")), "end kind"),
+    (dict(theta=0.5, h=0.01, ends=("free", "free")), "on the axis"),
+    (dict(theta=0.5, h=0.01, ends=("pole", "pole")), "not on the axis"),
     (dict(theta=0.5, h=0.01, breaks=(0.7,)), "breaks"),
     (dict(theta=0.5, h=0.01, field_parameters=(math.nan,)), "field_parameters"),
     (dict(theta=0.5, h=0.01, field_parameters="1.0"), "field_parameters"),
@@ -204,12 +208,12 @@ def test_exact_interfaces_are_the_limit_of_smoothed_steps():
 ])
 def test_bad_scene_is_named(kwargs, name):
     with pytest.raises(ValueError, match=name):
-        Scene(**kwargs)
+        cap(**kwargs)
 
 
-def _scaled(piece, s, kappa, c):
+def _scaled(x, kappa, c):
     """uniform_curvature with kappa scaled by the field parameter c[0]."""
-    one = 0.0 * s + 1.0
+    one = 0.0 * x.s + 1.0
     return one, one, (c[0] * kappa - 1.0) * one, (c[0] * kappa - 1.0) * one
 
 
@@ -219,8 +223,8 @@ def test_field_parameters_are_program_arguments():
     own code) at kappa = 3 and 1; scenes that differ only in c share one set of compiled
     programs."""
     kw = dict(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
-    one = Scene(fields=_scaled, field_parameters=(1.5,), **kw)
-    other = Scene(fields=_scaled, field_parameters=(0.5,), **kw)
+    one = cap(fields=_scaled, field_parameters=(1.5,), **kw)
+    other = cap(fields=_scaled, field_parameters=(0.5,), **kw)
     assert ShellBVP(one)._k is ShellBVP(other)._k
     for scene, kappa in ((one, 3.0), (other, 1.0)):
         a = solve(scene, 2.0, method=Chebyshev(nodes=24), estimate_error=False)
@@ -238,10 +242,10 @@ def test_bad_solve_arguments_are_named():
         solve(CAP, 1.0, guess=3.0)
     with pytest.raises(ValueError, match="kappa"):
         solve(CAP, float("nan"))
-    bad = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0 + 0 * s, 1.0 + 0 * s, np.nan + s, s))
+    bad = cap(0.5, 0.01, fields=lambda x, p: (1.0 + 0 * x.s, 1.0 + 0 * x.s, np.nan + x.s, x.s))
     with pytest.raises(ValueError, match="kb1 must be finite"):
         solve(bad, 1.0)
-    numpy_only = Scene(theta=0.5, h=0.01, fields=lambda i, s, p: (1.0, 1.0, np.tanh(s), p))
+    numpy_only = cap(0.5, 0.01, fields=lambda x, p: (1.0, 1.0, np.tanh(x.s), p))
     with pytest.raises(ValueError, match="fields must be written with array arithmetic"):
         solve(numpy_only, 1.0)
 

@@ -90,13 +90,13 @@ def test_stiff_material_floor_bounds_the_scatter_between_degrees(lam):
     """Folds of the stiff cap located on ladders from degrees 40, 48, 56, 64 (different
     Newton paths and discretisations, each converged far below the floor) lie within the
     floor of each other; each estimate is at least that floor."""
-    from shellbvp import Chebyshev, Scene
+    from shellbvp import Chebyshev, cap
     from shellbvp.bvp import ShellBVP
 
     runs = [ce.snap_curvature(THETA, 0.01, lam, tol=1e-10, method=Chebyshev(nodes=N))
             for N in (40, 48, 56, 64)]
     k = [r.kappa_s for r in runs]
-    floor = ShellBVP(Scene(theta=THETA, h=0.01, lam=lam)).round_off(k[0])
+    floor = ShellBVP(cap(THETA, 0.01, lam=lam)).round_off(k[0])
     assert max(k) - min(k) <= floor
     assert min(r.error_estimate for r in runs) >= floor
 

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from shellbvp import Chebyshev, Collocation, Scene, Shooting, solve
+from shellbvp import Chebyshev, Collocation, Shooting, cap, solve
 from shellbvp.bvp import ShellBVP
 
 THETA = math.pi / 6
-CAP = Scene(theta=THETA, h=0.01, lam=1.0, model="relaxed", material="cg")
+CAP = cap(THETA, 0.01, lam=1.0, model="relaxed", material="cg")
 STEP = 1e-6
 
 
@@ -125,26 +125,33 @@ def test_explicit_2x2_solve_matches_lapack_and_differentiates():
     assert np.max(np.abs(np.asarray(jvp) - fd)) <= 1e-8
 
 
-@pytest.mark.parametrize("free_edge", [True, False])
-def test_observable_gradient_in_closed_form_is_jax_gradient(free_edge):
-    """The monitor w / H and its gradients, written once in closed form for numpy (the host)
-    and jax.numpy (the kernels): the same values from both, and gradients equal to JAX's
+@pytest.mark.parametrize("terms,poles", [
+    (((1.0, "z", 1), (-1.0, "z", 0)), (True, False)),      # a cap with a free edge
+    (((1.0, "z", 0), (-1.0, "z", 1)), (True, True)),       # a closed shell
+    (((1.0, "r", 1), (-2.0, "theta", 0)), (False, False)),
+])
+def test_observable_gradient_in_closed_form_is_jax_gradient(terms, poles):
+    """The monitor and its gradients, written once in closed form for numpy (the host) and
+    jax.numpy (the kernels): the same values from both, and gradients equal to JAX's
     automatic gradient of the value (reference: autodiff, not the closed form)."""
     from shellbvp.jaxsetup import jax            # float64 on
-    from shellbvp.kernels import observable_and_gradient
+    from shellbvp.kernels import monitor_and_gradient
 
     jnp = jax.numpy
 
     rng = np.random.default_rng(7)
     for _ in range(5):
         ya, yb = rng.normal(size=6), rng.normal(size=6)
-        theta = rng.uniform(0.1, 3.0)
-        m, (ga, gb) = observable_and_gradient(ya, yb, theta, free_edge, np)
-        mj, (gaj, gbj) = observable_and_gradient(jnp.asarray(ya), jnp.asarray(yb), theta,
-                                                 free_edge, jnp)
-        auto_a, auto_b = jax.grad(
-            lambda a, b: observable_and_gradient(a, b, theta, free_edge, jnp)[0],
-            argnums=(0, 1))(jnp.asarray(ya), jnp.asarray(yb))
+        refs = [dict(zip(("r", "z", "theta"), rng.normal(size=3))) for _ in range(2)]
+        scale = rng.uniform(0.1, 3.0)
+
+        def mon(a, b, xp):
+            return monitor_and_gradient(a, b, terms, poles, refs, scale, xp)
+
+        m, (ga, gb) = mon(ya, yb, np)
+        mj, (gaj, gbj) = mon(jnp.asarray(ya), jnp.asarray(yb), jnp)
+        auto_a, auto_b = jax.grad(lambda a, b: mon(a, b, jnp)[0],
+                                  argnums=(0, 1))(jnp.asarray(ya), jnp.asarray(yb))
         assert float(mj) == pytest.approx(float(m), rel=1e-14)
         np.testing.assert_allclose(ga, np.asarray(auto_a), rtol=1e-14, atol=1e-15)
         np.testing.assert_allclose(gb, np.asarray(auto_b), rtol=1e-14, atol=1e-15)

@@ -39,7 +39,7 @@ def test_stress_free_and_bad_nu():
     with pytest.raises(ValueError, match="exact=True"):
         shellbvp.energy_density(1, 1, 0, 0, 0, 0, h=0.1, material="koiter", exact=True)
     with pytest.raises(ValueError, match="nu"):
-        shellbvp.Scene(theta=0.5, h=0.01, material="koiter", nu=-1.5)
+        shellbvp.cap(0.5, 0.01, material="koiter", nu=-1.5)
 
 
 def test_koiter_cap_solves_and_is_undeformed_at_zero_stimulus():

@@ -10,7 +10,7 @@ import pytest
 
 import shellbvp
 from bratu import LAM_STAR, BratuBVP
-from shellbvp import Collocation, ContinuationOptions, Scene, Shooting
+from shellbvp import Collocation, ContinuationOptions, Shooting, cap
 from shellbvp.bvp import ShellBVP
 from shellbvp.continuation import pseudo_arclength, refine_fold
 from shellbvp.problems import cap_eversion as ce
@@ -112,7 +112,7 @@ def test_options_fold_tol_alone_is_honoured():
 ])
 def test_unused_material_parameters_are_refused(kw, name):
     with pytest.raises(ValueError, match=rf"^{name} = .* does not apply"):
-        Scene(theta=0.5, h=0.01, **kw)
+        cap(0.5, 0.01, **kw)
     with pytest.raises(ValueError, match=name):
         ce.snap_curvature(0.5, 0.01, **{"lam": 1.0, **kw})
 

@@ -50,7 +50,7 @@ def test_membrane_contraction_under_small_pressure():
     sc = pc.scene(30.0, 1000.0)
     e, P = pc.membrane_state(0.01, 30.0, 1000.0)
     eq = shellbvp.solve(sc, P)
-    inner = eq.s < 0.3 * sc.theta
+    inner = eq.s < 0.3 * sc.length
     for stretch in (eq.lam1, eq.lam2):
         assert np.max(np.abs((1.0 - stretch[inner]) / e - 1.0)) <= 2e-5
     assert eq.w < 0          # external pressure pushes the apex toward the centre
@@ -62,7 +62,7 @@ def test_load_potential_is_pressure_times_enclosed_volume():
     sc = pc.scene(6.0)
     P = 0.5 * pc.pressure_scale(sc.h)
     eq = shellbvp.solve(sc, P)
-    s = np.linspace(eq.s[0], sc.theta, 40001)   # dz/ds by differences: error ~1e-10
+    s = np.linspace(eq.s[0], sc.length, 40001)   # dz/ds by differences: error ~1e-10
     r, z = eq(s)[:2]
     V = -math.pi * simpson(r**2 * np.gradient(z, s, edge_order=2), x=s)
     assert abs(eq.load_potential - P * V) <= 1e-8 * abs(P * V)
@@ -74,11 +74,11 @@ def _total_potential_variation(eq, P, phi, psi, n=4000):
     phi(Theta) = 0), r(eps) kept and r(Theta) clamped (a chosen so that int d(lam1 cos
     theta) ds = 0), z slaved to the clamped edge. Complex step on a quadrature."""
     sc = eq.scene
-    s = np.linspace(eq.s[0], sc.theta, 2 * n + 1)
+    s = np.linspace(eq.s[0], sc.length, 2 * n + 1)
     y = eq.unknowns(s)
     X, _ = shellbvp.bvp.ShellBVP(sc).state(s[None, :], y[None], eq.p)
     lam1, k1, th, r = X[0, 0], X[0, 2], y[2], y[0]
-    chi = np.sin(math.pi * s / sc.theta) ** 2
+    chi = np.sin(math.pi * s / sc.length) ** 2
     a = -simpson(psi(s) * np.cos(th) - lam1 * np.sin(th) * phi(s), x=s) / \
         simpson(chi * np.cos(th), x=s)
     dl = psi(s) + a * chi
@@ -98,7 +98,7 @@ def test_equilibrium_is_stationary_for_the_total_potential():
     c = pc.pressure_scale(sc.h)
     eq = shellbvp.solve(sc, 0.8 * c)
     off = shellbvp.solve(sc, 0.6 * c)     # an equilibrium at another pressure is not one here
-    Th = sc.theta
+    Th = sc.length
     for phi, psi in ((lambda s: np.sin(math.pi * s / Th), lambda s: 0 * s),
                      (lambda s: s * (Th - s) * np.cos(5 * s / Th), lambda s: np.cos(3 * s / Th)),
                      (lambda s: 0 * s, lambda s: 1 + s / Th)):
@@ -215,7 +215,7 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="hemisphere"):
         pc.critical_pressure(50.0, R_over_t=100.0)
     with pytest.raises(ValueError, match="pressure"):
-        shellbvp.Scene(theta=0.3, h=0.01, pressure=2.0)
+        shellbvp.cap(0.3, 0.01, pressure=2.0)
 
 
 def test_pressure_example_of_the_docs_runs(tmp_path, monkeypatch):

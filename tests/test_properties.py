@@ -7,7 +7,7 @@ import math
 
 from hypothesis import given, settings, strategies as st
 
-from shellbvp import MATERIALS, MODELS, Scene
+from shellbvp import MATERIALS, MODELS, cap
 from shellbvp.scene import H_MIN, LAM_MAX, SCENE_DEFAULTS, THETA_MIN
 
 numbers = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
@@ -22,11 +22,11 @@ numbers = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
 def test_scene_is_in_range_or_refused_by_name(theta, h, lam, nu, model, material):
     given_ = dict(theta=theta, h=h, lam=lam, nu=nu, model=model, material=material)
     try:
-        sc = Scene(**given_)
+        sc = cap(**given_)
     except ValueError as exc:
         assert str(exc).split()[0].strip("'\"").split("=")[0] in given_, str(exc)
         return
-    assert THETA_MIN < sc.theta < math.pi and H_MIN < sc.h < 1
+    assert THETA_MIN < sc.length < math.pi and H_MIN < sc.h < 1
     assert sc.model in MODELS and sc.material in MATERIALS
     if sc.material == "cg":
         assert 0 < sc.lam < LAM_MAX and sc.nu == SCENE_DEFAULTS["nu"]

@@ -78,7 +78,7 @@ def fold_system_terms(system, U, p, *, theta=False, curvature=True):
     gU, gp, gth = system.curvature_terms(U, p, w, x[:-1], x[-1])
     out = (R, J, Rp, m, gm, factor, x[:-1], float(x[-1]), -gU, -gp)
     if theta:
-        dR, dm = system.parameter_derivatives(U, p, names=("theta",))["theta"]
+        dR, dm = system.parameter_derivatives(U, p, names=("length",))["length"]
         out += (-gth, dR, float(dm))
     return out
 

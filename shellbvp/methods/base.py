@@ -179,12 +179,24 @@ class ShellProblem(NodalBVP, Protocol):
     its inner roots to another discretisation (:class:`shellbvp.bvp.ShellBVP`)."""
 
     jacobian_error: float
+    #: (P - 1, n): the unknowns' jumps across the interfaces
+    jumps: np.ndarray
 
     def collocate(self, s, Y, p, hint=None): ...
 
     def round_off(self, p: float) -> float: ...
 
     def carried_hint(self, hint, Y, Y_new, p, resample): ...
+
+
+def inside(s, i: int, P: int) -> np.ndarray:
+    """The points s (increasing) of piece i of P as seen from that piece: a profile gives an
+    interface to the next piece, so the piece's last point, where it is that interface, is
+    taken a rounding unit inside (where the tangent of a shell with a kink jumps)."""
+    s = np.array(s, dtype=float)
+    if i < P - 1:
+        s[-1] = np.nextafter(s[-1], -np.inf)
+    return s
 
 
 def implements(obj, protocol) -> bool:
@@ -220,8 +232,10 @@ def first_rung(system, tol: float, *, exact: bool = False):
 class NodalSystem:
     """Unknowns at the same nodes t_0 = 0 < ... < t_M = 1 of every piece: U = Y (P, n, M + 1)
     flattened (piece, component, node). Rows: the n boundary conditions of the BVP, the
-    interior equations of each piece (n M rows, from the subclass), and continuity of all
-    n components at each interface. Subclasses implement :meth:`interior`.
+    interior equations of each piece (n M rows, from the subclass), and the n interface
+    conditions y(b_i) + jump_i = y(a_{i+1}) at each interface (continuity, but for a
+    shell's tangent angle at a kink of its geometry). Subclasses implement
+    :meth:`interior`.
     """
 
     def __init__(self, bvp, t):
@@ -240,6 +254,9 @@ class NodalSystem:
         self._monitor = None    # (U, monitor at U) of the last evaluation
         #: the BVP's capabilities beyond the nodal ones, decided once
         self._shell = implements(bvp, ShellProblem)
+        #: the jumps of the unknowns across the interfaces (P - 1, n): a shell's, else none
+        self.jumps = np.asarray(bvp.jumps, dtype=float) if self._shell \
+            else np.zeros((self.P - 1, n))
 
     @property
     def jacobian_error(self) -> float:
@@ -253,7 +270,9 @@ class NodalSystem:
         return np.asarray(U, dtype=float).reshape(self.P, self.n, self.M + 1)
 
     def from_profile(self, profile) -> np.ndarray:
-        return np.stack([np.asarray(profile(self.s[i]), dtype=float)
+        """U from a profile s -> (n, len(s)), each piece from its own side of an interface
+        (:func:`inside`)."""
+        return np.stack([np.asarray(profile(inside(self.s[i], i, self.P)), dtype=float)
                          for i in range(self.P)]).ravel()
 
     def nodes(self, U, p):
@@ -337,8 +356,8 @@ class NodalSystem:
             if into is None or Ji is not into[i]:
                 parts.append((row, self.col(i, 0), Ji))
             row += n * M
-            if i < P - 1:   # continuity of y at the interface b_i = a_{i+1}
-                R.append(Y[i, :, -1] - Y[i + 1, :, 0])
+            if i < P - 1:   # the interface b_i = a_{i+1}: y(b_i) + jump_i = y(a_{i+1})
+                R.append(Y[i, :, -1] + self.jumps[i] - Y[i + 1, :, 0])
                 Rp.append(np.zeros(n))
                 parts.append((row, self._columns(i, M), eye))
                 parts.append((row, self._columns(i + 1, 0), -eye))

@@ -139,9 +139,11 @@ def refine_step(N: int) -> int:
 
 
 def default_nodes(scene) -> int:
-    """Degree per piece for a scene: the edge boundary layer has width ~ sqrt(h) R0, so the
-    degree grows with the shallowness T = theta / sqrt(h) (24 at T <= 4, +8 per 4/3 of T)."""
-    T = scene.theta / math.sqrt(scene.h)
+    """Degree per piece for a scene: the bending layer at an edge has width ~ sqrt(h R_c), so
+    the degree grows with the shallowness T = L / sqrt(h R_c) (:attr:`shellbvp.Scene.
+    shallowness`; Theta / sqrt(h) for a cap of the unit sphere): 24 at T <= 4, +8 per 4/3
+    of T."""
+    T = scene.shallowness
     return int(8 * math.ceil(max(3.0, 0.75 * T)))
 
 
@@ -151,7 +153,7 @@ def _resolvable(scene) -> int:
     if N > MAX_NODES:
         raise ValueError(
             f"the scene needs Chebyshev degree {N} > {MAX_NODES}: its shallowness "
-            f"T = theta / sqrt(h) = {scene.theta / math.sqrt(scene.h):.4g} is "
+            f"T = L / sqrt(h R_c) = {scene.shallowness:.4g} is "
             f"beyond what this method resolves (T <= {MAX_NODES / 6:.0f}); raise h")
     return N
 
@@ -237,51 +239,56 @@ class ChebyshevSystem(NodalSystem):
             found = self._scaled[length] = np.tile(-length * self._Pm, (1, self.n))
         return found
 
-    def parameter_derivatives(self, U, p, names=("theta", "material", "h")) -> dict:
-        """dR/dx and dm/dx at (U, p) for the scene's x = ``"theta"`` (the edge moves, the
-        pole offset with it when it is the default; interfaces stay), ``"h"`` and
-        ``"material"`` (lam, or nu of a Koiter shell), with the unknowns held at the same
-        piece coordinates: {x: (dR (size,), dm)}. Exact: the BVP's derivatives come from
-        JAX with the inner root differentiated implicitly. The interior residual
-        Y D' - L f(s(t), Y) P' is linear in L f, whose derivative in theta is
-        L' f + L f_s s'(t) with s(t) = a + L t. ``names``: the x wanted (theta alone
-        compiles ~5x faster: no derivative of the energy in its material and h)."""
+    def parameter_derivatives(self, U, p, names=("length", "material", "h")) -> dict:
+        """dR/dx and dm/dx at (U, p) for the scene's x = ``"length"`` (the meridian's length
+        L: the second end moves, the pole offsets with it when they are the default;
+        interfaces stay; Theta for a cap of the unit sphere), ``"h"`` and ``"material"``
+        (lam, or nu of a Koiter shell), with the unknowns held at the same piece
+        coordinates: {x: (dR (size,), dm)}. Exact: the BVP's derivatives come from JAX with
+        the inner root differentiated implicitly. The interior residual
+        Y D' - L_i f(s(t), Y) P' is linear in L_i f, whose derivative in L is
+        L_i' f + L_i f_s s'(t) with s(t) = a_i + L_i t. ``names``: the x wanted (the length
+        alone compiles ~5x faster: no derivative of the energy in its material and h)."""
         bvp, n, P = self.bvp, self.n, self.P
         Y = self.split(U)
-        geometry_only = set(names) <= {"theta"}
+        geometry_only = set(names) <= {"length"}
         f, df = bvp.sensitivities(self.s, Y, p, self._hint, geometry_only=geometry_only)
-        dr, dm_theta = bvp.boundary_sensitivities(Y[0, :, 0], Y[-1, :, -1], p,
-                                                  geometry_only=geometry_only)
-        da = np.zeros(P)
-        db = np.zeros(P)
-        da[0], db[-1] = bvp.eps_per_theta, 1.0
+        dr, dm_length = bvp.boundary_sensitivities(Y[0, :, 0], Y[-1, :, -1], p,
+                                                   geometry_only=geometry_only)
+        da, db = self._end_motion()
         L = bvp.lengths
         t = self.t
-        dLf = {"theta": [(db[i] - da[i]) * f[i] + L[i] * df[i, ..., 0]
-                         * (da[i] + (db[i] - da[i]) * t) for i in range(P)],
+        dLf = {"length": [(db[i] - da[i]) * f[i] + L[i] * df[i, ..., 0]
+                          * (da[i] + (db[i] - da[i]) * t) for i in range(P)],
                "material": [L[i] * df[i, ..., 1] for i in range(P)],
                "h": [L[i] * df[i, ..., 2] for i in range(P)]}
-        rb = {"theta": dr[:, 0] * bvp.eps_per_theta + dr[:, 1], "material": dr[:, 2],
-              "h": dr[:, 3]}
+        rb = {"length": dr[:, 0], "material": dr[:, 1], "h": dr[:, 2]}
         out = {}
         for x, parts in ((x, dLf[x]) for x in names):
             rows = [rb[x]]
             for i in range(P):
                 rows.append(-(parts[i] @ self._Pm.T).ravel())
                 if i < P - 1:
-                    rows.append(np.zeros(n))     # interface continuity holds for any x
-            out[x] = (np.concatenate(rows), dm_theta if x == "theta" else 0.0)
+                    rows.append(np.zeros(n))     # the interface rows hold for any x
+            out[x] = (np.concatenate(rows), dm_length if x == "length" else 0.0)
         return out
 
+    def _end_motion(self):
+        """(da, db) (P,): how each piece's ends move with the meridian's length (only the
+        domain's ends do, as :attr:`shellbvp.bvp.ShellBVP.ends_per_length` says)."""
+        da, db = np.zeros(self.P), np.zeros(self.P)
+        da[0], db[-1] = self.bvp.ends_per_length
+        return da, db
+
     def curvature_terms(self, U, p, w, v, dp) -> tuple:
-        """The gradient in (U, p, theta) of the second directional derivative
+        """The gradient in (U, p, L) of the second directional derivative
         d/de [w_R . R(U + e v, p + e dp) + w_m m(U + e v)] at e = 0, w = (w_R, w_m): with
         (v, dp) and w the right and left null vectors of the bordered matrix
         [[dR/dU, dR/dp], [dm/dU, 0]], it is minus the gradient of the fold test function
-        dp/dm (:mod:`shellbvp.continuation.fold_curve`). Returns (dU (size,), dp, dtheta),
-        exact: the BVP's second derivatives from JAX along the inner root (implicit), theta
-        moving the edge (and the default pole offset) with the interfaces fixed, as in
-        :meth:`parameter_derivatives`."""
+        dp/dm (:mod:`shellbvp.continuation.fold_curve`). Returns (dU (size,), dp, dL),
+        exact: the BVP's second derivatives from JAX along the inner root (implicit), L the
+        meridian's length moving the second end (and the default pole offsets) with the
+        interfaces fixed, as in :meth:`parameter_derivatives`."""
         bvp, n, P, N = self.bvp, self.n, self.P, self.N
         Y, V = self.split(U), self.split(v)
         wR, w0 = np.asarray(w[:-1], dtype=float), float(w[-1])
@@ -290,22 +297,21 @@ class ChebyshevSystem(NodalSystem):
             Wn.append(wR[row:row + n * N].reshape(n, N) @ self._Pm)   # weights at the nodes
             row += n * N + (n if i < P - 1 else 0)
         L = bvp.lengths
-        # the pole rows enter as part of the pole node's phi, scaled as the interior's -L f
-        dphi, dgy, dgp, dgs = bvp.fold_terms(self.s, Y, p, np.stack(Wn), -wR[:3] / L[0], V,
-                                             dp, self._hint)
-        da = np.zeros(P)
-        db = np.zeros(P)
-        da[0], db[-1] = bvp.eps_per_theta, 1.0
+        # the pole rows enter as part of the end nodes' phi, scaled as the interior's -L f
+        wb = np.stack([-wR[:3] / L[0], -wR[3:6] / L[-1]])
+        dphi, dgy, dgp, dgs = bvp.fold_terms(self.s, Y, p, np.stack(Wn), wb, V, dp,
+                                             self._hint)
+        da, db = self._end_motion()
         gU = -L[:, None, None] * dgy
         g_p = -float(np.sum(L * dgp.sum(axis=1)))
-        g_th = -float(sum((db[i] - da[i]) * dphi[i, :, 0].sum()
-                          + L[i] * np.sum((da[i] + (db[i] - da[i]) * self.t) * dgs[i])
-                          for i in range(P)))
+        g_L = -float(sum((db[i] - da[i]) * dphi[i, :, 0].sum()
+                         + L[i] * np.sum((da[i] + (db[i] - da[i]) * self.t) * dgs[i])
+                         for i in range(P)))
         mya, myb, mth = bvp.monitor_curvature(Y[0, :, 0], Y[-1, :, -1], V[0, :, 0],
                                               V[-1, :, -1])
         gU[0, :, 0] += w0 * mya
         gU[-1, :, -1] += w0 * myb
-        return gU.ravel(), g_p, g_th + w0 * float(mth)
+        return gU.ravel(), g_p, g_L + w0 * float(mth)
 
     def dense(self, U, p=None):
         at = _interpolant(self.split(U))

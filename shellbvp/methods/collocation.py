@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConvergenceError
-from .base import NodalSystem
+from .base import NodalSystem, inside
 
 __all__ = ["Collocation", "CollocationSystem"]
 
@@ -94,8 +94,8 @@ class Collocation:
 
         def bc(ya, yb):
             return np.concatenate([bvp.boundary(ya[:n], yb[-n:], p)[0]]
-                                  + [yb[n * i:n * i + n] - ya[n * i + n:n * i + 2 * n]
-                                     for i in range(P - 1)])
+                                  + [yb[n * i:n * i + n] + bvp.jumps[i]
+                                     - ya[n * i + n:n * i + 2 * n] for i in range(P - 1)])
 
         def bc_jac(ya, yb):
             _, Ja, Jb, _ = bvp.boundary(ya[:n], yb[-n:], p)
@@ -108,7 +108,7 @@ class Collocation:
             return Ba, Bb
 
         t0 = clustered_mesh(self.nodes)
-        Y0 = np.concatenate([np.asarray(profile(bvp.s_of(i, t0)), dtype=float)
+        Y0 = np.concatenate([np.asarray(profile(inside(bvp.s_of(i, t0), i, P)), dtype=float)
                              for i in range(P)])
         try:
             tol = SOLVE_TOL if self.tol is None else self.tol

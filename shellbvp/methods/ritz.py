@@ -1,19 +1,21 @@
 """Direct minimisation of the discrete reduced energy (a Ritz method): the paper's own route.
 
 The other methods solve the first-order Euler-Lagrange system, which needs the inner
-inversion of the moment M -> (lam1, k1) at every node and regular-series conditions at the
+inversion of the moment M -> (lam1, k1) at every node and regular-series conditions at a
 pole. This one never forms those equations. Its unknowns are the meridian itself, as the
 tangent angle theta(s), the actual meridional stretch Lambda(s) = |x'| = g1 lam1 and the
 radius r(s), on spectral elements (Chebyshev-Lobatto nodes of degree q per element), and
 the discrete energy
 
-    E = 2 pi int [ W(Lambda / g1, r / (g2 sin s), -theta' / Lambda, -sin(theta) / r; kb)
-                   g1 g2 sin s + (P / 2) r^2 Lambda sin(theta) ] ds
+    E = 2 pi int [ t W(lam1, lam2, k1, k2; kb, h t, rhob) g1 g2 r0
+                   + (P / 2) r^2 Lambda sin(theta) ] ds - (work of the end loads)
 
-(Gauss-Legendre quadrature per element; P the pressure, if any) is made stationary under
-the kinematic constraint r' = Lambda cos(theta), imposed at the q Gauss points of every
-element with multipliers f = 12/h^2 F_r (the meridional force per radian, scaled as the
-first-order system scales it). The discrete system is R = grad L = 0 for the Lagrangian
+with the principal state from the one kinematic map (:mod:`shellbvp.kinematics`:
+lam1 = Lambda / g1, lam2 = r / (g2 r0), k1 = -theta' / Lambda, k2 = -sin(theta) / r),
+Gauss-Legendre quadrature per element, P the pressure, if any, is made stationary under the
+kinematic constraint r' = Lambda cos(theta), imposed at the q Gauss points of every element
+with multipliers f = 12/h^2 F_r (the meridional force per radian, scaled as the first-order
+system scales it). The discrete system is R = grad L = 0 for the Lagrangian
 L = E + 2 pi int (h^2/12) f (r' - Lambda cos theta) ds, its Jacobian the Hessian of L,
 both exact (JAX, per quadrature point, assembled through the elements' fixed linear maps
 into a sparse symmetric matrix; the point kernel is compiled once per material, at a fixed
@@ -24,20 +26,26 @@ What it does not need:
 
 * no inner constitutive inversion (lam1 and k1 are read from the unknowns), so it passes
   states where that inversion folds;
-* no pole conditions: theta(0) = 0 and r(0) = 0 are the only conditions at the apex (the
-  finite-energy conditions: a nonzero apex angle costs a bending energy ~ log(1/s)); the
-  quadrature points lie inside the elements, never at s = 0. Where the target is a cone at
-  the apex (g1 != g2) or its curvature is anisotropic there (kb1 != kb2), the solution is
-  singular at s = 0 (curvatures ~ log s); the elements are then graded geometrically
-  toward the apex (``layers`` layers, each ``grading`` times the next, down to a tenth of
-  the thickness, below which the thin-shell energy is not valid), the hp-refinement that
-  resolves such singularities (Babuska & Guo): w converges, the apex strains do not.
+* no regular-series conditions at a pole: theta = 0 (pi at a second end) and r = 0 are the
+  only conditions there (the finite-energy conditions: a nonzero pole angle costs a bending
+  energy ~ log(1/s)); the quadrature points lie inside the elements, never on the axis.
+  Where the target is a cone at a pole (g1 != g2) or its curvature is anisotropic there
+  (kb1 != kb2), the solution is singular at the pole (curvatures ~ log s); the elements are
+  then graded geometrically toward it (``layers`` layers, each ``grading`` times the next,
+  down to a tenth of the thickness, below which the thin-shell energy is not valid), the
+  hp-refinement that resolves such singularities (Babuska & Guo): w converges, the pole
+  strains do not.
 
-Boundary conditions: clamped edge theta(Theta) = Theta, r(Theta) = sin Theta (Dirichlet);
-a free edge has none (M = F_r = 0 are natural). The vertical position z never enters the
-energy (it is z' = -Lambda sin theta, integrated afterwards), so these scenes have F_z = 0
-along the whole meridian: a free edge, or a free apex. A held apex with a clamped edge
-(a point force at the apex) is refused.
+Ends (:class:`shellbvp.scene.End`): the fixed values of theta and r are removed from the
+unknowns (a pole: theta at a right angle to the axis, r = 0; clamped: theta, r; hinged: r;
+symmetry: theta); forces and moments are natural, their given line loads enter the energy
+as the potential of dead loads on the end. The axial position z never enters the energy
+(z' = -Lambda sin theta is integrated afterwards, I = int Lambda sin theta ds the drop from
+the first end to the second): an end that fixes z holds the other's position through I, an
+axial load on the other end has potential -Q z(end) (linear in I), and where both ends fix
+z the constraint I = z0(0) - z0(L) enters with its own multiplier (the axial force). A
+joint of the geometry with a kink turns theta by the reference's angle: the unknown is
+theta less the kinks passed, continuous.
 
 Stability comes with it: the Hessian of L restricted to the constraints' tangent space is
 the discrete second variation at fixed stimulus (:meth:`RitzSystem.spectrum`).
@@ -122,15 +130,35 @@ def auto_layers(grading: float, first: float, h: float) -> int:
     return max(0, math.ceil(math.log(APEX_CORE * h / first) / math.log(grading)))
 
 
+def singular_poles(scene) -> tuple:
+    """Per end, whether it is a pole where the target is singular for some probed parameter
+    value: a cone (g1 != g2) or an anisotropic curvature (kb1 != kb2) on the axis."""
+    out = []
+    for end, (piece, s) in enumerate(((0, 0.0), (scene.pieces - 1, scene.length))):
+        found = False
+        if scene.ends[end].kind == "pole":
+            for p in APEX_PROBES:
+                g1, g2, kb1, kb2 = (float(np.asarray(v).ravel()[0])
+                                    for v in scene.field_values(piece, np.array([s]), p))
+                if all(math.isfinite(v) for v in (g1, g2, kb1, kb2)) and \
+                        (g1 != g2 or kb1 != kb2):
+                    found = True
+                    break
+        out.append(found)
+    return tuple(out)
+
+
 def singular_apex(scene) -> bool:
-    """Whether the target is singular at the apex for some probed parameter value: a cone
-    (g1 != g2) or an anisotropic curvature (kb1 != kb2) at s = 0."""
-    for p in APEX_PROBES:
-        g1, g2, kb1, kb2 = (float(np.asarray(v).ravel()[0])
-                            for v in scene.field_values(0, np.array([0.0]), p))
-        if all(math.isfinite(v) for v in (g1, g2, kb1, kb2)) and (g1 != g2 or kb1 != kb2):
-            return True
-    return False
+    """Whether the first end is a pole where the target is singular (:func:`singular_poles`)."""
+    return singular_poles(scene)[0]
+
+
+def _derivative(load, p) -> float:
+    """d load / dp at p (a load is a function of the parameter traced by JAX, as the
+    compiled programs trace it)."""
+    from ..jaxsetup import jax
+
+    return float(jax.jvp(lambda x: load(x) + 0.0 * x, (float(p),), (1.0,))[1])
 
 
 # --- one element: nodes, quadrature, the fixed linear maps --------------------------------
@@ -216,76 +244,80 @@ def _padded(fn, n, arrays, scalars):
 
 
 @lru_cache(maxsize=None)
-def _point_kernels(model, material, rhob1):
+def _point_kernels(model, material, through_thickness):
     """Per quadrature point, for the energy density of the Lagrangian
 
-        phi(v; s, L, F, P) = W(Lambda/g1, r/(g2 sin s), -(theta_t/L)/Lambda, -sin(theta)/r)
-                             g1 g2 sin s + (P/2) r^2 Lambda sin(theta),
+        phi(v; L, F, P) = t W(X; kb, h t, rhob) g1 g2 r0 + (P/2) r^2 Lambda sin(theta),
 
-    v = (theta, theta_t, Lambda, r) (theta_t = dtheta/dt on an element of length L):
-    ``phi_kernel`` -> (gradient (n, 4), Hessian (n, 4, 4), d gradient / dp (n, 4) along the
-    fields' and the pressure's derivatives dF, dP); ``w_kernel`` -> gradient and Hessian of
-    W in X = (lam1, lam2, k1, k2). Compiled once per material, at CHUNK points."""
+    X the principal state of v = (theta, theta_t, Lambda, r) (theta_t = dtheta/dt on an
+    element of length L) by :func:`shellbvp.kinematics.principal_state`, F the fields
+    (:data:`shellbvp.kinematics.FIELDS`): ``phi_kernel`` -> (gradient (n, 4), Hessian
+    (n, 4, 4), d gradient / dp (n, 4) along the fields' and the pressure's derivatives
+    dF, dP); ``w_kernel`` -> gradient and Hessian of W in X = (lam1, lam2, k1, k2).
+    Compiled once per material, at CHUNK points."""
     from ..jaxsetup import jax, jit
     import jax.numpy as jnp
 
-    from ..compiled import energy_function
+    from .. import kinematics as K
+    from ..compiled import energy_at, energy_function
 
-    W = energy_function(model, material, rhob1)
+    W = energy_function(model, material, through_thickness)
 
-    def phi(v, s, L, F, P, mat, h):
+    def phi(v, L, F, P, mat, h):
         th, tht, Lam, r = v
-        g1, g2, kb1, kb2 = F
-        sn = jnp.sin(s)
-        lam1, lam2 = Lam / g1, r / (g2 * sn)
-        k1, k2 = -(tht / L) / Lam, -jnp.sin(th) / r
-        return (W(lam1, lam2, k1, k2, kb1, kb2, mat, h) * g1 * g2 * sn
+        X = K.principal_state(r, th, Lam, tht / L, F[K.R0], F[K.G1], F[K.G2], jnp)
+        return (K.energy_per_length(W, X, F, mat, h)
                 + 0.5 * P * r * r * Lam * jnp.sin(th))
 
-    pts = (0, 0, 0, 0, None, None, None)
+    pts = (0, 0, 0, None, None, None)
     grad = jax.vmap(jax.grad(phi), pts)
     hess = jax.vmap(jax.hessian(phi), pts)
 
-    def phi_kernel(V, s, L, F, dF, P, dP, mat, h):
-        g, gp = jax.jvp(lambda F_, P_: grad(V, s, L, F_, P_, mat, h), (F, P), (dF, dP))
-        return g, hess(V, s, L, F, P, mat, h), gp
+    def phi_kernel(V, L, F, dF, P, dP, mat, h):
+        g, gp = jax.jvp(lambda F_, P_: grad(V, L, F_, P_, mat, h), (F, P), (dF, dP))
+        return g, hess(V, L, F, P, mat, h), gp
 
-    def w(X, kb1, kb2, mat, h):
-        return W(X[0], X[1], X[2], X[3], kb1, kb2, mat, h)
+    def w(X, F, mat, h):
+        return energy_at(W, X, F, mat, h)
 
-    one = (0, 0, 0, None, None)
+    one = (0, 0, None, None)
     w_grad, w_hess = jax.vmap(jax.grad(w), one), jax.vmap(jax.hessian(w), one)
     return (jit(phi_kernel),
-            jit(lambda X, kb1, kb2, mat, h: (w_grad(X, kb1, kb2, mat, h),
-                                             w_hess(X, kb1, kb2, mat, h))))
+            jit(lambda X, F, mat, h: (w_grad(X, F, mat, h), w_hess(X, F, mat, h))))
 
 
-@lru_cache(maxsize=None)
-def _fields_program(fields, pressure, pieces, n_c):
-    """(s (E, k), p, c) -> fields (E, k, 4), their p-derivative, pressure P and dP/dp, the
-    fields called piece by piece (``pieces``: elements per piece); small, compiled per mesh."""
+#: compiled field programs, per scene structure and element counts (each small)
+_FIELD_PROGRAMS: dict = {}
+
+
+def _fields_program(scene, pieces):
+    """(s (E, k), p, c) -> fields (E, k, n_fields), their p-derivative, pressure P and
+    dP/dp, the scene's fields (:func:`shellbvp.fields.point_fields`) piece by piece
+    (``pieces``: elements per piece); small, compiled per scene structure and mesh."""
     from ..jaxsetup import jax, jit
     import jax.numpy as jnp
 
-    from ..scene import call_fields
+    from ..fields import point_fields
+    from ..kernels import kernel_key
 
+    key = (kernel_key(scene, (False, False)), pieces)
+    found = _FIELD_PROGRAMS.get(key)
+    if found is not None:
+        return found
     bounds = np.cumsum((0,) + pieces)
 
     def values(s, p, c):
-        out = []
-        for i in range(len(pieces)):
-            s_i = s[bounds[i]:bounds[i + 1]]
-            F = call_fields(fields, i, s_i, p, c)
-            out.append(jnp.stack([jnp.broadcast_to(jnp.asarray(v, dtype=float), s_i.shape)
-                                  for v in F], axis=-1))
-        P = 0.0 * p if pressure is None else jnp.asarray(pressure(p), dtype=float)
+        out = [jnp.moveaxis(point_fields(scene, i, s[bounds[i]:bounds[i + 1]], p, c, jnp),
+                            0, -1) for i in range(len(pieces))]
+        P = 0.0 * p if scene.pressure is None else jnp.asarray(scene.pressure(p), dtype=float)
         return jnp.concatenate(out, axis=0), P
 
     def with_derivative(s, p, c):
         (F, P), (dF, dP) = jax.jvp(lambda p_: values(s, p_, c), (p,), (1.0,))
         return F, dF, P, dP
 
-    return jit(with_derivative)
+    found = _FIELD_PROGRAMS[key] = jit(with_derivative)
+    return found
 
 
 def _constraint_terms(U, L, h):
@@ -309,38 +341,47 @@ def _constraint_terms(U, L, h):
 # --- the discrete system --------------------------------------------------------------------
 class RitzSystem:
     """R(U, p) = grad L on the free unknowns (see the module docstring); J its Hessian
-    (scipy.sparse, symmetric), dR/dp exact. U: theta, Lambda, r at the element nodes and f
-    at the collocation points, less the fixed values (theta(0) = r(0) = 0; at a clamped
-    edge theta, r)."""
+    (scipy.sparse, symmetric), dR/dp exact. U: theta (less the kinks passed), Lambda, r at
+    the element nodes, f at the collocation points and, where both ends fix z, the axial
+    force's multiplier, less the fixed values of the ends."""
 
     #: relative error of the Jacobian: round-off (JAX's exact derivatives)
     jacobian_error = 0.0
     dense_jacobian = False
 
     def __init__(self, bvp, method: Ritz):
+        from ..fields import piece_ends
+
         sc = bvp.scene
-        if sc.apex == "held" and sc.edge == "clamped":
-            raise ValueError("the energy method needs F_z = 0 along the meridian (a free edge "
-                             "or a free apex); a held apex with a clamped edge carries a point "
-                             "force it does not represent")
         self.bvp, self.method = bvp, method
         self.scene = sc
         q = self.q = int(method.degree)
         self.nq = quadrature_points(q)
-        self.singular = singular_apex(sc)
-        ends = (0.0,) + sc.breaks + (sc.theta,)
-        first = (ends[1] - ends[0]) / method.elements
-        self.layers = (auto_layers(method.grading, first, sc.h) if self.singular else 0) \
-            if method.layers is None else int(method.layers)
+        self.singular = singular_poles(sc)
+        ends = tuple(float(x) for x in piece_ends(sc))
         P = self.P = sc.pieces
+        first = (ends[1] - ends[0]) / method.elements
+        last = (ends[-1] - ends[-2]) / method.elements
+        auto = [auto_layers(method.grading, length, sc.h) if singular else 0
+                for singular, length in zip(self.singular, (first, last))]
+        given = None if method.layers is None else int(method.layers)
+        self.end_layers = tuple(a if given is None else (given if singular else 0)
+                                for a, singular in zip(auto, self.singular))
+        if given is not None and not any(self.singular):
+            self.end_layers = (given, 0)
+        self.layers = sum(self.end_layers)
         edges, counts = [], []
         for i in range(P):
             a, b = ends[i], ends[i + 1]
             cuts = list(np.linspace(a, b, method.elements + 1))
-            if i == 0 and self.layers:
-                first = a + (b - a) / method.elements
-                cuts = [0.0] + [first * method.grading ** k
-                                for k in range(self.layers, 0, -1)] + cuts[1:]
+            if i == 0 and self.end_layers[0]:
+                e1 = a + (b - a) / method.elements
+                cuts = [a] + [a + (e1 - a) * method.grading ** k
+                              for k in range(self.end_layers[0], 0, -1)] + cuts[1:]
+            if i == P - 1 and self.end_layers[1]:
+                e1 = b - (b - a) / method.elements
+                cuts = cuts[:-1] + [b - (b - e1) * method.grading ** k
+                                    for k in range(1, self.end_layers[1] + 1)] + [b]
             edges.append(np.array(cuts))
             counts.append(len(cuts) - 1)
         self.pieces = tuple(counts)
@@ -350,6 +391,9 @@ class RitzSystem:
         self.L = self.eb - self.ea
         E = self.E = self.ea.size
         self.element_piece = np.repeat(np.arange(P), counts)
+        #: theta's offset per piece: the kinks passed (the unknown is theta less them)
+        self.kink_offset = np.concatenate([[0.0], np.cumsum(bvp.jumps[:, 2])])
+        self.element_offset = self.kink_offset[self.element_piece]
         t, tq, _, tc, _, _, _ = _element(q, self.nq)
         self.t_nodes, self.tq, self.tc = t, tq, tc
         self.sq = self.ea[:, None] + self.L[:, None] * tq[None, :]     # (E, nq)
@@ -366,14 +410,28 @@ class RitzSystem:
         n_lam = int(sum(c * q + 1 for c in counts))
         off_lam, off_r = nodes, nodes + n_lam
         off_f = off_r + nodes
-        self.n_full = off_f + E * q
+        #: both ends fix z: the constraint I = z0(0) - z0(L) with its multiplier, the last
+        #: unknown (the axial force per radian, scaled by 12/h^2)
+        self.fixes_z = tuple(e.fixes_z for e in sc.ends)
+        self.z_constraint = all(self.fixes_z)
+        self.n_full = off_f + E * q + (1 if self.z_constraint else 0)
         self.idx = np.concatenate([node, off_lam + lam_node, off_r + node,
                                    off_f + np.arange(E * q).reshape(E, q)], axis=1)
         self.offsets = (0, off_lam, off_r, off_f, nodes, n_lam)
-        fixed = {0: 0.0, off_r: 0.0}
-        if sc.edge == "clamped":
-            fixed[nodes - 1] = sc.theta
-            fixed[off_r + nodes - 1] = math.sin(sc.theta)
+        geo = sc.geometry
+        self.reference_ends = [geo.at_end(which) for which in ("first", "second")]
+        fixed = {}
+        last_offset = self.kink_offset[-1]
+        for k, (end, (th_node, r_node), offset) in enumerate(zip(
+                sc.ends, ((0, off_r), (nodes - 1, off_r + nodes - 1)), (0.0, last_offset))):
+            r0, _, th0 = self.reference_ends[k]
+            if end.kind == "pole":
+                fixed[th_node] = (0.0, math.pi)[k] - offset
+                fixed[r_node] = 0.0
+            if end.kind in ("clamped", "symmetry"):
+                fixed[th_node] = float(th0) - offset
+            if end.kind in ("clamped", "hinged"):
+                fixed[r_node] = float(r0)
         self.fixed = np.zeros(self.n_full)
         free = np.ones(self.n_full, dtype=bool)
         for k, v in fixed.items():
@@ -392,14 +450,15 @@ class RitzSystem:
         self.scale = scale[self.free]
         where = np.full(self.n_full, -1)
         where[self.free] = np.arange(self.size)
+        self._where = where
         rows = np.broadcast_to(where[self.idx][:, :, None], (E, 4 * q + 3, 4 * q + 3))
         cols = np.broadcast_to(where[self.idx][:, None, :], (E, 4 * q + 3, 4 * q + 3))
         keep = (rows >= 0) & (cols >= 0)
         self._keep = keep.ravel()
         self._rows, self._cols = rows.ravel()[self._keep], cols.ravel()[self._keep]
-        self._phi, self._w = _point_kernels(sc.model, sc.material, float(sc.rhob1))
-        self._fields = _fields_program(sc.fields, sc.pressure, self.pieces,
-                                       len(sc.field_parameters))
+        self._phi, self._w = _point_kernels(sc.model, sc.material,
+                                            sc.through_thickness_stimulus)
+        self._fields = _fields_program(sc, self.pieces)
         self._c = np.asarray(sc.field_parameters, dtype=float)
         self.evaluations = 0
         self._monitor = None
@@ -411,23 +470,72 @@ class RitzSystem:
         return x
 
     def local(self, U) -> np.ndarray:
-        """The unknowns per element (E, 4 q + 3): theta, Lambda, r at the nodes, f."""
+        """The unknowns per element (E, 4 q + 3): theta (less the kinks passed), Lambda, r
+        at the nodes, f."""
         return self.full(U)[self.idx]
-
-    def _sign(self):
-        # the observable: free edge, z(edge) - z(apex) = -I; clamped, z(apex) - z(edge) = I;
-        # both as displacements from the reference (I = H there), in rises H
-        return -1.0 if self.scene.edge == "free" else 1.0
 
     def _points(self, U, p):
         """The state at the energy points V (E, nq, 4), the collocation points (E, q, 4),
-        the fields there (E, nq, 4), their p-derivative, and the pressure with its
-        p-derivative."""
+        the fields there (E, nq, n_fields), their p-derivative, and the pressure with its
+        p-derivative; theta with the kinks passed added."""
         _, _, _, _, _, BE, BC = _element(self.q, self.nq)
         xl = self.local(U)
         F, dF, P, dP = (np.asarray(a) for a in self._fields(self.sq, float(p), self._c))
-        return (np.einsum("gkn,en->egk", BE, xl), np.einsum("gkn,en->egk", BC, xl),
-                F, dF, float(P), float(dP))
+        V = np.einsum("gkn,en->egk", BE, xl)
+        Uc = np.einsum("gkn,en->egk", BC, xl)
+        V[..., 0] += self.element_offset[:, None]
+        Uc[..., 0] += self.element_offset[:, None]
+        return V, Uc, F, dF, float(P), float(dP)
+
+    # --- end loads and the axial position -------------------------------------------------
+    def _end_loads(self, p):
+        """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) of its line loads at
+        p and their p-derivatives: Q = load per unit reference length x r0 there, Q_theta
+        = -moment r0 (a counterclockwise moment turns theta negatively)."""
+        out = []
+        for k, end in enumerate(self.scene.ends):
+            r0 = float(self.reference_ends[k][0])
+            Q, dQ = np.zeros(3), np.zeros(3)
+            for j, name in enumerate(("radial", "axial", "moment")):
+                load = getattr(end, name)
+                if load is not None:
+                    sign = -1.0 if name == "moment" else 1.0
+                    Q[j] = sign * r0 * float(load(p))
+                    dQ[j] = sign * r0 * _derivative(load, p)
+            out.append((Q, dQ))
+        return out
+
+    def _drop_coefficient(self, loads):
+        """The coefficient c of I = int Lambda sin(theta) ds in the end loads' potential
+        (-Q_z z at each end, z eliminated through I where one end holds it), and dc/dp: an
+        end holding z fixes the other's z(L) = z(0) - I."""
+        (Qa, dQa), (Qb, dQb) = loads
+        if self.fixes_z[1] and not self.fixes_z[0]:
+            return -Qa[1], -dQa[1]             # z(0) = z(L) + I: potential -Q_a I
+        return Qb[1], dQb[1]                   # z(L) = z(0) - I: potential +Q_b I
+
+    def _drop(self, V):
+        """I = int Lambda sin(theta) ds by the energy quadrature, with its gradient (E, nq,
+        4) and Hessian (E, nq, 4, 4) at the energy points in v = (theta, theta_t, Lambda,
+        r), quadrature weights included."""
+        _, _, wq, _, _, _, _ = _element(self.q, self.nq)
+        w = self.L[:, None] * wq[None, :]
+        th, Lam = V[..., 0], V[..., 2]
+        sn, cs = np.sin(th), np.cos(th)
+        g = np.zeros(V.shape)
+        g[..., 0], g[..., 2] = Lam * cs * w, sn * w
+        H = np.zeros(V.shape + (4,))
+        H[..., 0, 0] = -Lam * sn * w
+        H[..., 0, 2] = H[..., 2, 0] = cs * w
+        return float(np.sum(Lam * sn * w)), g, H
+
+    def _z_first(self, I):
+        """The height of the first end: its reference's where it is held (or where no end
+        holds z: the first end is then the pinned one), else the second's plus I."""
+        z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
+        if self.fixes_z[1] and not self.fixes_z[0]:
+            return z0b + I
+        return z0a
 
     # --- the system -----------------------------------------------------------------------
     def evaluate(self, U, p):
@@ -445,52 +553,118 @@ class RitzSystem:
                                    f"{sc.parameter} = {p:g} (a step too long)")
         n = E * nq
         Lq = np.repeat(self.L, nq)
-        gE, HE, gpE = _padded(self._phi, n, (V.reshape(n, 4), self.sq.ravel(), Lq,
-                                             F.reshape(n, 4), dF.reshape(n, 4)),
+        nf = F.shape[-1]
+        gE, HE, gpE = _padded(self._phi, n, (V.reshape(n, 4), Lq, F.reshape(n, nf),
+                                             dF.reshape(n, nf)),
                               (P, dP, sc.material_parameter, sc.h))
+        gE, HE, gpE = gE.reshape(E, nq, 4), HE.reshape(E, nq, 4, 4), gpE.reshape(E, nq, 4)
+        # the drop I's share: the axial end loads' potential, and the axial constraint
+        loads = self._end_loads(p)
+        cI, dcI = self._drop_coefficient(loads)
+        xfull = self.full(U)
+        fz = xfull[-1] if self.z_constraint else 0.0
+        k = sc.h * sc.h / 12.0
+        I, gI, HI = self._drop(V)
+        coef = cI - k * fz                        # the constraint's term: fz (z0a - z0b - I)
+        if coef != 0.0:
+            gE = gE + coef * gI / (self.L[:, None, None] * wq[None, :, None])
+            HE = HE + coef * HI / (self.L[:, None, None, None] * wq[None, :, None, None])
+        if dcI != 0.0:
+            gpE = gpE + dcI * gI / (self.L[:, None, None] * wq[None, :, None])
         we = (2 * math.pi * self.L[:, None] * wq[None, :]).reshape(n)
         gC, HC = _constraint_terms(Uc, self.L, sc.h)
         wk = 2 * math.pi * self.L[:, None] * wc[None, :]
         BEf, BCf = BE.reshape(nq * 4, -1), BC.reshape(q * 4, -1)
-        g = ((gE * we[:, None]).reshape(E, nq * 4) @ BEf
+        g = ((gE.reshape(n, 4) * we[:, None]).reshape(E, nq * 4) @ BEf
              + (gC * wk[..., None]).reshape(E, q * 4) @ BCf)
-        gp = (gpE * we[:, None]).reshape(E, nq * 4) @ BEf
-        HEw = (HE * we[:, None, None]).reshape(E, nq, 4, 4)
+        gp = (gpE.reshape(n, 4) * we[:, None]).reshape(E, nq * 4) @ BEf
+        HEw = (HE.reshape(n, 4, 4) * we[:, None, None]).reshape(E, nq, 4, 4)
         HCw = HC * wk[..., None, None]
         # B^T blockdiag(H) B per element: the blocks applied to B, then B^T
         H = (BEf.T @ np.matmul(HEw, BE).reshape(E, nq * 4, -1)
              + BCf.T @ np.matmul(HCw, BC).reshape(E, q * 4, -1))
+        Rf = np.bincount(self.idx.ravel(), g.ravel(), self.n_full)
+        Rpf = np.bincount(self.idx.ravel(), gp.ravel(), self.n_full)
+        # the radial loads and moments on the ends: potential -Q r(end) - Q_theta theta(end)
+        nodes, off_r = self.offsets[4], self.offsets[2]
+        for (Q, dQ), (th_node, r_node) in zip(loads, ((0, off_r),
+                                                      (nodes - 1, off_r + nodes - 1))):
+            Rf[r_node] -= 2 * math.pi * Q[0]
+            Rf[th_node] -= 2 * math.pi * Q[2]
+            Rpf[r_node] -= 2 * math.pi * dQ[0]
+            Rpf[th_node] -= 2 * math.pi * dQ[2]
+        rows, cols, vals = [self._rows], [self._cols], [H.ravel()[self._keep]]
+        if self.z_constraint:
+            # d L / d fz = 2 pi k (z0a - z0b - I); its cross terms -2 pi k dI/dU
+            z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
+            Rf[-1] = 2 * math.pi * k * (z0a - z0b - I)
+            dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
+                             self.n_full)
+            col = self._where[-1]
+            sel = np.flatnonzero((dI != 0) & (self._where >= 0))
+            sel = sel[sel != self.n_full - 1]
+            entries = -2 * math.pi * k * dI[sel]
+            rows += [self._where[sel], np.full(sel.size, col)]
+            cols += [np.full(sel.size, col), self._where[sel]]
+            vals += [entries, entries]
         c = self.scale
-        R = np.bincount(self.idx.ravel(), g.ravel(), self.n_full)[self.free] / c
-        Rp = np.bincount(self.idx.ravel(), gp.ravel(), self.n_full)[self.free] / c
-        vals = H.ravel()[self._keep] / (c[self._rows] * c[self._cols])
-        J = sps.csc_matrix((vals, (self._rows, self._cols)), shape=(self.size, self.size))
-        self._monitor = (np.array(U, dtype=float), self._observable(V, c))
-        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(vals))):
+        R = Rf[self.free] / c
+        Rp = Rpf[self.free] / c
+        r_all, c_all = np.concatenate(rows), np.concatenate(cols)
+        v_all = np.concatenate(vals) / (c[r_all] * c[c_all])
+        J = sps.csc_matrix((v_all, (r_all, c_all)), shape=(self.size, self.size))
+        self._monitor = (np.array(U, dtype=float), self._observable(xfull, V, gI, I))
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(v_all))):
             raise ConvergenceError(f"energy method: non-finite energy gradient at "
                                    f"{sc.parameter} = {p:g}")
         return R, J, Rp
 
-    def _observable(self, V, c):
-        """(m, dm/dU) from the state V at the energy points: m = +-(I - H) / H with
-        I = int Lambda sin(theta) ds by the energy quadrature."""
-        _, _, wq, _, _, BE, _ = _element(self.q, self.nq)
-        w = self.L[:, None] * wq[None, :]
-        I = float(np.sum(V[..., 2] * np.sin(V[..., 0]) * w))
-        dV = np.zeros_like(V)
-        dV[..., 0] = V[..., 2] * np.cos(V[..., 0]) * w
-        dV[..., 2] = np.sin(V[..., 0]) * w
-        dI = np.einsum("gkn,egk->en", BE, dV)
-        H0 = self.bvp.rise
-        dm = np.bincount(self.idx.ravel(), dI.ravel(), self.n_full)[self.free] / c
-        return self._sign() * (I - H0) / H0, self._sign() * dm / H0
+    def _end_values(self, xfull, I):
+        """Per end, the current (r, z, theta) there, and their gradients in the full unknowns
+        through (r node, I, theta node): ((values, which) per end)."""
+        nodes, off_r = self.offsets[4], self.offsets[2]
+        za = self._z_first(I)
+        out = []
+        for k, (th_node, r_node, offset) in enumerate(((0, off_r, 0.0),
+                                                       (nodes - 1, off_r + nodes - 1,
+                                                        self.kink_offset[-1]))):
+            z = za if k == 0 else za - I
+            out.append({"r": xfull[r_node], "z": z, "theta": xfull[th_node] + offset,
+                        "nodes": {"r": r_node, "theta": th_node}})
+        return out
+
+    def _observable(self, xfull, V, gI, I):
+        """(m, dm/dU) from the state V at the energy points (:attr:`shellbvp.Scene.
+        monitor_terms`): sum of coefficient x (end value - its reference) over the scale;
+        z at the ends through I (dz/dI = 0, 1 or -1 by which end holds z)."""
+        _, _, _, _, _, BE, _ = _element(self.q, self.nq)
+        sc = self.scene
+        refs = self.bvp._refs
+        dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
+                         self.n_full)
+        ends = self._end_values(xfull, I)
+        held_second = self.fixes_z[1] and not self.fixes_z[0]
+        dz = ((1.0 if held_second else 0.0), (0.0 if held_second else -1.0))
+        value, grad = 0.0, np.zeros(self.n_full)
+        for coef, comp, end in sc.monitor_terms:
+            value += coef * (ends[end][comp] - refs[end][comp])
+            if comp == "z":
+                grad += coef * dz[end] * dI
+            else:
+                grad[ends[end]["nodes"][comp]] += coef
+        scale = self.bvp.scale
+        return value / scale, grad[self.free] / self.scale / scale
 
     def monitor(self, U):
-        """(m, dm/dU): w / H (the last evaluation's when it was at U)."""
+        """(m, dm/dU): the scene's monitor (the last evaluation's when it was at U)."""
         if self._monitor is not None and np.array_equal(self._monitor[0], U):
             return self._monitor[1]
         _, _, _, _, _, BE, _ = _element(self.q, self.nq)
-        return self._observable(np.einsum("gkn,en->egk", BE, self.local(U)), self.scale)
+        xfull = self.full(U)
+        V = np.einsum("gkn,en->egk", BE, xfull[self.idx])
+        V[..., 0] += self.element_offset[:, None]
+        I, gI, _ = self._drop(V)
+        return self._observable(xfull, V, gI, I)
 
     # --- profiles -------------------------------------------------------------------------
     def from_profile(self, profile) -> np.ndarray:
@@ -502,7 +676,7 @@ class RitzSystem:
         _, off_lam, off_r, off_f, nodes, _ = self.offsets
         s_nodes = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
         Y = np.asarray(profile(s_nodes), dtype=float)
-        x[:nodes], x[off_r:off_r + nodes] = Y[2], Y[0]
+        x[:nodes], x[off_r:off_r + nodes] = Y[2] - self._node_offset(), Y[0]
         # Lambda per element node, by second-order differences kept inside the element's
         # piece (central, or one-sided at a piece's ends, where Lambda may jump)
         lo = self.piece_ends[self.element_piece][:, None]
@@ -519,11 +693,19 @@ class RitzSystem:
         Lam = np.hypot(np.sum(c * Ys[0], axis=0), np.sum(c * Ys[1], axis=0)) / d
         x[self.idx[:, q + 1:2 * q + 2]] = Lam
         sc_ = self.ea[:, None] + self.L[:, None] * self.tc[None, :]
-        x[off_f:] = np.asarray(profile(sc_.ravel()), dtype=float)[4]
+        x[off_f:off_f + E * q] = np.asarray(profile(sc_.ravel()), dtype=float)[4]
+        if self.z_constraint:             # the axial force: F_z = -(h^2/12) fz
+            x[-1] = -float(np.mean(Y[5]))
         return x[self.free] * self.scale
 
+    def _node_offset(self):
+        """theta's kink offset at every global node (an interface's node belongs to the next
+        piece, whose first element it starts)."""
+        return np.concatenate([np.repeat(self.element_offset, self.q), self.element_offset[-1:]])
+
     def _values(self, U):
-        """theta, Lambda, r at the nodes (E, q + 1) each, and f at the collocation points."""
+        """theta (less the kinks passed), Lambda, r at the nodes (E, q + 1) each, and f at
+        the collocation points."""
         xl = self.local(U)
         n1 = self.q + 1
         return xl[:, :n1], xl[:, n1:2 * n1], xl[:, 2 * n1:3 * n1], xl[:, 3 * n1:]
@@ -548,26 +730,39 @@ class RitzSystem:
         return np.einsum("nk,nk->n", C, values[e])
 
     def _z(self, th, Lam, s):
-        """z(s) - z(0) = -int_0^s Lambda sin(theta) ds, by Gauss quadrature per element."""
+        """z(s) = z(0) - int_0^s Lambda sin(theta) ds, by Gauss quadrature per element
+        (theta with its kink offsets), z(0) as the ends hold it (:meth:`_z_first`); and
+        z(0)."""
         _, _, wq, _, _, BE, _ = _element(self.q, self.nq)
         Iq = BE[:, 0, :self.q + 1]                       # nodes -> the energy points
+        th = th + self.element_offset[:, None]
         f = np.sin(th @ Iq.T) * (Lam @ Iq.T)
         whole = np.concatenate([[0.0], np.cumsum(np.sum(f * wq * self.L[:, None], axis=1))])
         e, x = self._locate(s)
         tq, _ = _gauss(self.nq)
         C = self._at_nodes((x[:, None] * tq[None, :]).ravel()).reshape(x.size, self.nq, -1)
         part = np.sin(np.einsum("ngk,nk->ng", C, th[e])) * np.einsum("ngk,nk->ng", C, Lam[e])
-        return -(whole[e] + np.sum(part * wq, axis=1) * x * self.L[e])
+        z0 = self._z_first(float(whole[-1]))
+        return z0 - (whole[e] + np.sum(part * wq, axis=1) * x * self.L[e]), z0
+
+    def _axial_force(self, U, p) -> float:
+        """F_z per radian (constant along the meridian): the multiplier of the axial
+        constraint where both ends hold z, else the axial line load's reaction
+        (F(second) = Q, F(first) = -Q)."""
+        if self.z_constraint:
+            return -self.scene.h ** 2 / 12 * float(self.full(U)[-1])
+        (Qa, _), (Qb, _) = self._end_loads(p)
+        return -Qa[1] if self.fixes_z[1] and not self.fixes_z[0] else Qb[1]
 
     def profile(self, U, p):
         """A callable s -> (6, n): the BVP's unknowns (r, z, theta, m, f_r, f_z) of this
-        solution (z from the apex, m and f scaled by 12/h^2), a guess for any method."""
+        solution (m and f scaled by 12/h^2), a guess for any method."""
         scale = 12.0 / self.scene.h ** 2
 
         def ev(s):
             st = self.state_at(U, p, np.atleast_1d(np.asarray(s, dtype=float)))
             return np.stack([st["r"], st["z"], st["theta"], scale * st["M"],
-                             scale * st["F_r"], 0.0 * st["s"]])
+                             scale * st["F_r"], scale * st["F_z"]])
 
         return ev
 
@@ -587,37 +782,51 @@ class RitzSystem:
 
         return at
 
+    def _fields_at(self, s, p):
+        """The fields (:data:`shellbvp.kinematics.FIELDS`, n_fields, len(s)) at points s,
+        each on its element's piece."""
+        from ..fields import point_fields
+
+        e, _ = self._locate(s)
+        F = None
+        for i in range(self.P):
+            sel = self.element_piece[e] == i
+            if np.any(sel):
+                vals = point_fields(self.scene, i, s[sel], p, self._c, np)
+                if F is None:
+                    F = np.zeros((vals.shape[0], s.size))
+                F[:, sel] = vals
+        return F
+
     def state_at(self, U, p, s) -> dict:
-        """The state at the points s (> 0): r, z, theta, stretches, curvatures, fields, the
-        moment M = -W_k1 g2 sin s / lam1 and the force F_r (the multipliers, h^2/12 f), per
-        mu* h0 R0 per radian, and the W gradient and Hessian in (lam1, lam2, k1, k2)."""
+        """The state at the points s (inside the meridian): r, z, theta, stretches,
+        curvatures, the stimulus fields (g1, g2, kb1, kb2), the moment M = -W_k1 t g1 g2 r0
+        / Lambda and the forces F_r (the multipliers, h^2/12 f) and F_z, per mu* h R per
+        radian, and the W gradient and Hessian in (lam1, lam2, k1, k2); ``z_pole`` the first
+        end's height."""
+        from .. import kinematics as K
+
         th, Lam, r, f = self._values(U)
         sc = self.scene
         s = np.atleast_1d(np.asarray(s, dtype=float))
         e, x = self._locate(s)
         C = self._at_nodes(x)
         Dm = differentiation_matrix(self.q)
-        thv = np.einsum("nk,nk->n", C, th[e])
+        thv = np.einsum("nk,nk->n", C, th[e]) + self.element_offset[e]
         dth = np.einsum("nk,nk->n", C, (th @ Dm.T)[e]) / self.L[e]
         Lv = np.einsum("nk,nk->n", C, Lam[e])
         rv = np.einsum("nk,nk->n", C, r[e])
-        F = np.zeros((4, s.size))
-        for i in range(self.P):
-            sel = self.element_piece[e] == i
-            if np.any(sel):
-                vals = self.scene.field_values(i, s[sel], p)
-                F[:, sel] = [np.broadcast_to(np.asarray(v, dtype=float), s[sel].shape)
-                             for v in vals]
-        g1, g2, kb1, kb2 = F
-        sn = np.sin(s)
+        F = self._fields_at(s, p)
         with np.errstate(divide="ignore", invalid="ignore"):
-            X = np.stack([Lv / g1, rv / (g2 * sn), -dth / Lv, -np.sin(thv) / rv])
-        gw, Hw = _padded(self._w, s.size, (np.ascontiguousarray(X.T), kb1, kb2),
+            X = np.stack(K.principal_state(rv, thv, Lv, dth, F[K.R0], F[K.G1], F[K.G2], np))
+        gw, Hw = _padded(self._w, s.size, (np.ascontiguousarray(X.T),
+                                           np.ascontiguousarray(F.T)),
                          (sc.material_parameter, sc.h))
-        M = -gw[:, 2] * g2 * sn / X[0]
+        M = -gw[:, 2] * K.area_factor(F) / Lv
         F_r = sc.h ** 2 / 12 * self.interpolate(f, s, at="collocation")
-        return dict(s=s, r=rv, z=self._z(th, Lam, s), theta=thv, X=X, F=F, M=M, F_r=F_r,
-                    gw=gw, Hw=Hw)
+        z, z0 = self._z(th, Lam, s)
+        return dict(s=s, r=rv, z=z, theta=thv, X=X, F=F[:4], M=M, F_r=F_r,
+                    F_z=self._axial_force(U, p) + 0.0 * s, gw=gw, Hw=Hw, z_pole=z0)
 
     def output_points(self) -> np.ndarray:
         """The element nodes, each once, without the apex (s = 0, where lam2 and k2 are
@@ -649,7 +858,9 @@ class RitzSystem:
         lam_vals = np.einsum("nk,nk->n", C, Lam[e]).reshape(other.sn.shape)
         x[other.idx[:, other.q + 1:2 * other.q + 2]] = lam_vals
         sc_ = other.ea[:, None] + other.L[:, None] * other.tc[None, :]
-        x[off_f:] = self.interpolate(f, sc_.ravel(), at="collocation")
+        x[off_f:off_f + other.E * other.q] = self.interpolate(f, sc_.ravel(), at="collocation")
+        if other.z_constraint:
+            x[-1] = -12.0 / self.scene.h ** 2 * self._axial_force(U, p)
         return x[other.free] * other.scale
 
     # --- resolution -----------------------------------------------------------------------
@@ -667,30 +878,34 @@ class RitzSystem:
         return self
 
     def describe(self) -> dict:
-        """The resolution: degree per element, elements in all (the apex layers included)
-        and the apex layers."""
+        """The resolution: degree per element, elements in all (the pole layers included)
+        and the pole layers."""
         return {"method": "energy", "degree": self.q, "elements": self.E,
                 "layers": self.layers}
 
     # --- what the energy gives beyond the equations ---------------------------------------
     def energies(self, U, p) -> tuple:
         """(E_s, E_b, E_p): stretching, bending energy and the pressure's potential, per
-        mu* h0 R0^2, by this system's own quadrature."""
+        mu* h R^2, by this system's own quadrature."""
+        from .. import kinematics as K
         from ..energy import energy_terms
 
         sc = self.scene
         V, _, F, _, P, _ = self._points(U, p)
+        F = np.moveaxis(F, -1, 0)
         th, Lam, r = V[..., 0], V[..., 2], V[..., 3]
-        X = np.stack([Lam / F[..., 0], r / (F[..., 1] * np.sin(self.sq)),
-                      -(V[..., 1] / self.L[:, None]) / Lam, -np.sin(th) / r], axis=-1)
+        X = K.principal_state(r, th, Lam, V[..., 1] / self.L[:, None], F[K.R0], F[K.G1],
+                              F[K.G2], np)
         pot = 0.5 * P * r * r * Lam * np.sin(th)
-        ws, wb, _, _ = energy_terms(X[..., 0], X[..., 1], X[..., 2], X[..., 3], F[..., 2],
-                                    F[..., 3], lam=sc.lam, nu=sc.nu, model=sc.model,
-                                    material=sc.material, rhob1=sc.rhob1)
+        rb = K.RHOB.start
+        ws, wb, _, _ = energy_terms(*X, F[K.KB1], F[K.KB2], lam=sc.lam, nu=sc.nu,
+                                    model=sc.model, material=sc.material, rhob1=F[rb],
+                                    rhob2=F[rb + 1], rhob3=F[rb + 2])
         _, wq = _gauss(self.nq)
-        dA = 2 * math.pi * F[..., 0] * F[..., 1] * np.sin(self.sq) * self.L[:, None] * wq
+        dA = 2 * math.pi * K.area_factor(F) * self.L[:, None] * wq
         Ep = float(np.sum(2 * math.pi * pot * self.L[:, None] * wq))
-        return float(np.sum(ws * dA)), sc.h ** 2 / 12 * float(np.sum(wb * dA)), Ep
+        ht2 = (sc.h * F[K.THICKNESS]) ** 2 / 12
+        return float(np.sum(ws * dA)), float(np.sum(ht2 * wb * dA)), Ep
 
     def spectrum(self, U, p, *, count: int = 4):
         """The ``count`` smallest eigenvalues and modes of the discrete second variation at

@@ -51,9 +51,10 @@ MAX_DEFAULT_SEGMENTS = 16
 
 
 def default_segments(bvp) -> int:
-    """Segments for a BVP: theta / (``SEGMENT_SQRT_H`` sqrt(h)), at least one per piece, at
-    most ``MAX_DEFAULT_SEGMENTS`` (unless the pieces need more)."""
-    T = bvp.scene.theta / math.sqrt(bvp.scene.h)
+    """Segments for a BVP: its shallowness T = L / sqrt(h R_c) (:attr:`shellbvp.Scene.
+    shallowness`) over ``SEGMENT_SQRT_H``, at least one per piece, at most
+    ``MAX_DEFAULT_SEGMENTS`` (unless the pieces need more)."""
+    T = bvp.scene.shallowness
     return max(bvp.P, min(MAX_DEFAULT_SEGMENTS, int(math.ceil(T / SEGMENT_SQRT_H))))
 
 
@@ -165,6 +166,11 @@ class ShootingSystem:
         self.s0 = np.concatenate([e[:-1] for e in edges])
         self.s1 = np.concatenate([e[1:] for e in edges])
         self.piece = np.repeat(np.arange(bvp.P), per_piece)
+        #: the jump of the state at the end of each segment (a piece's last, before an
+        #: interface: the BVP's jump there; zero elsewhere)
+        self.jumps = np.zeros((self.piece.size, 6))
+        for i in range(bvp.P - 1):
+            self.jumps[(i + 1) * per_piece - 1] = bvp.jumps[i]
         self.per_piece, self.n, self.segments = per_piece, self.s0.size, segments
         self.size = 6 * (self.n + 1)
         self.rtol, self.steps = rtol, steps
@@ -192,9 +198,9 @@ class ShootingSystem:
         J = np.zeros((self.size, self.size))
         Rp = np.zeros(self.size)
         R[:6], J[:6, :6], J[:6, -6:], Rp[:6] = rb, Ja, Jb, Jpb
-        for j in range(n):  # continuity: flow_j(U_j) - U_{j+1} (U_n = y_edge)
+        for j in range(n):  # continuity: flow_j(U_j) + jump_j - U_{j+1} (U_n = y_edge)
             rows = slice(6 + 6 * j, 12 + 6 * j)
-            R[rows] = ends[j] - Y[j + 1]
+            R[rows] = ends[j] + self.jumps[j] - Y[j + 1]
             J[rows, 6 * j:6 * j + 6] = sens[j]
             J[rows, 6 * j + 6:6 * j + 12] = -np.eye(6)
             Rp[rows] = sens_p[j]
