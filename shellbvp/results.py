@@ -19,6 +19,7 @@ import numpy as np
 
 from .cache import atomic_write_text
 from .ellipticity import ellipticity
+from .kinematics import THICKNESS
 from .errors import ConvergenceError
 from .methods.base import InnerRoots, MidSurface, implements
 from .scene import Scene
@@ -39,6 +40,11 @@ class Equilibrium:
         eps11, eps22: elastic mid-surface strains (a_aa - abar_aa) / (2 abar_aa)
             = (lam_a^2 - 1) / 2, relative to the target metric.
         M, F_r, F_z: meridional moment and force multipliers (see the module docstring).
+        N1, N2: the membrane stress resultants, meridional and hoop, per unit deformed
+            length and per mu* h: the derivatives of the energy per unit reference area in
+            the actual stretches, t W_lam1 / lam2 and t W_lam2 / lam1 (for a sphere of
+            radius R under a small pressure P, N1 = N2 = P R / 2; t the thickness
+            profile).
         energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) = 2 pi int W dA_target,
             split into the w_s and h^2/12 w_b parts, plus ``load_potential``.
         load_potential: the pressure's potential P V (V the volume between the surface and
@@ -98,6 +104,8 @@ class Equilibrium:
     pole_hessian_min: float = math.nan
     thin_shell: tuple = (math.nan, math.nan)
     load_potential: float = 0.0
+    N1: np.ndarray = field(repr=False, default=None)
+    N2: np.ndarray = field(repr=False, default=None)
 
     def __repr__(self) -> str:
         if not self.success:
@@ -155,7 +163,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
             roots = system.inner_roots(U, p)
         except ConvergenceError:
             roots = None
-    X, F, gw, Hw = bvp.state_and_hessian(s_all, Y, p, roots)
+    X, F, gw, Hw = bvp.state_and_hessian(s_all, Y, p, roots, all_fields=True)
     keep = [slice(None) if i == 0 else slice(1, None) for i in range(bvp.P)]  # interfaces once
     s = np.concatenate([s_all[i, k] for i, k in enumerate(keep)])
     y = np.concatenate([Y[i][:, k] for i, k in enumerate(keep)], axis=1)
@@ -164,6 +172,8 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     gw = np.concatenate([gw[i][:, k] for i, k in enumerate(keep)], axis=1)
     Hw = np.concatenate([Hw[i][:, :, k] for i, k in enumerate(keep)], axis=-1)
     legendre, block, full = ellipticity(X.T, gw.T, np.moveaxis(Hw, -1, 0), sc.h)
+    thick = F[THICKNESS]
+    F = F[:4]
     dense_t = system.dense(U, p)
     # the first pole's height from the regular series at eps
     z_pole = y[1, 0] + y[0, 0] * y[2, 0] / 2 if bvp.poles[0] else math.nan
@@ -187,7 +197,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         message=message, z_pole=float(z_pole), profile=bvp.profile(dense_t),
         legendre=legendre, hessian_block=block, pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
-        load_potential=float(Ep))
+        load_potential=float(Ep), N1=thick * gw[0] / X[1], N2=thick * gw[1] / X[0])
 
 
 def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
@@ -211,7 +221,8 @@ def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
         profile=system.profile(U, p), legendre=legendre, hessian_block=block,
         pole_hessian_min=float(full[0]),
         thin_shell=(float(sc.h * np.abs(X[2:]).max()), float(sc.h * np.abs(F[2:]).max())),
-        load_potential=float(Ep))
+        load_potential=float(Ep), N1=st["t"] * st["gw"][:, 0] / X[1],
+        N2=st["t"] * st["gw"][:, 1] / X[0])
 
 
 def failed_equilibrium(scene, p, message, stats) -> Equilibrium:

@@ -825,14 +825,14 @@ class RitzSystem:
         M = -gw[:, 2] * K.area_factor(F) / Lv
         F_r = sc.h ** 2 / 12 * self.interpolate(f, s, at="collocation")
         z, z0 = self._z(th, Lam, s)
-        return dict(s=s, r=rv, z=z, theta=thv, X=X, F=F[:4], M=M, F_r=F_r,
+        return dict(s=s, r=rv, z=z, theta=thv, X=X, F=F[:4], t=F[K.THICKNESS], M=M, F_r=F_r,
                     F_z=self._axial_force(U, p) + 0.0 * s, gw=gw, Hw=Hw, z_pole=z0)
 
     def output_points(self) -> np.ndarray:
-        """The element nodes, each once, without the apex (s = 0, where lam2 and k2 are
-        limits), an interface's node belonging to the next piece."""
+        """The element nodes, each once, without the poles (where lam2 and k2 are limits),
+        an interface's node belonging to the next piece."""
         s = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
-        return s[1:]
+        return s[1:-1] if self.bvp.poles[1] else s[1:]
 
     def nodes(self, U, p):
         t = np.linspace(0.0, 1.0, 2 * self.q + 1)
