@@ -55,7 +55,7 @@ import numpy as np
 
 from .bvp_derivatives import Derivatives
 from .errors import ConvergenceError
-from .fields import interface_jumps, piece_ends
+from .fields import interface_jumps
 from .kernels import kernels, monitor_and_gradient, untraceable
 from .meridian import MeridianStates
 from .nodal import Collocated, Hint, Nodal, carried_roots, flat_nodes
@@ -134,7 +134,7 @@ class ShellBVP(Derivatives, MeridianStates):
         eps_given = eps
         L = scene.length
         eps = POLE_OFFSET * L if eps is None else float(eps)
-        ends = piece_ends(scene)
+        ends = scene.piece_ends
         self.poles = tuple(e.kind == "pole" for e in scene.ends)
         for k, (pole, piece) in enumerate(zip(self.poles, (ends[1] - ends[0],
                                                             ends[-1] - ends[-2]))):

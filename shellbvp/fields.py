@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["ReferencePoint", "call_fields", "point_fields", "reference_point",
-           "piece_segments", "piece_ends", "interface_jumps"]
+           "interface_jumps"]
 
 
 class ReferencePoint(NamedTuple):
@@ -45,19 +45,6 @@ def call_fields(fields, x, p, c):
 
 
 
-def piece_ends(scene) -> np.ndarray:
-    """The ends of the pieces in s, (P + 1,): 0, the interfaces (joints and breaks), L."""
-    return np.concatenate([[0.0], scene.interfaces, [scene.length]])
-
-
-def piece_segments(scene) -> tuple:
-    """The index of the geometry's segment each piece lies on."""
-    ends = piece_ends(scene)
-    mid = 0.5 * (ends[:-1] + ends[1:])
-    starts = np.asarray(scene.geometry.segment_starts, dtype=float)
-    return tuple(int(k) for k in np.searchsorted(starts, mid, side="right") - 1)
-
-
 def interface_jumps(scene) -> np.ndarray:
     """(P - 1, 6): the jump of the unknowns (r, z, theta, m, f_r, f_z) across each interface,
     right minus left: the geometry's kink angle in theta at a joint (the joint is rigid: the
@@ -75,7 +62,7 @@ def reference_point(scene, piece: int, s, xp=np) -> ReferencePoint:
     """The reference point (:class:`shellbvp.scene.ReferencePoint`) at arclength s on piece
     ``piece``: the piece's segment evaluated at its local arclength; the hoop curvature
     k2 = -sin(theta) / r with its limit k1 on the axis."""
-    k = piece_segments(scene)[piece]
+    k = scene.piece_segments[piece]
     seg = scene.geometry.segments[k]
     r, z, theta, k1 = seg.evaluate(s - scene.geometry.segment_starts[k], xp)
     theta = theta + scene.geometry.theta_offsets[k]      # theta0 continuous but at kinks

@@ -1182,9 +1182,11 @@ def _check_poles(segments, offsets, poles):
 
 # --------------------------------------------------------------------------- common shells
 
+@lru_cache(maxsize=256)
 def spherical_cap(theta: float, radius: float = 1.0) -> Meridian:
     """The cap of opening half-angle ``theta`` in (0, pi] of a sphere of radius ``radius``,
-    from its top pole at z = 0: r0 = R sin(s/R), z0 = R (cos(s/R) - 1), theta0 = s/R."""
+    from its top pole at z = 0: r0 = R sin(s/R), z0 = R (cos(s/R) - 1), theta0 = s/R (one
+    object per (theta, radius): a meridian is immutable, and its checks run once)."""
     return Meridian((Sphere(radius, -float(radius), angle=(0.0, theta)),))
 
 

@@ -278,14 +278,14 @@ def _cheb_basis(m, N, scale):
 
 def _base(eq: Equilibrium, degree: int) -> _Base:
     from .bvp import ShellBVP
-    from .fields import piece_ends, point_fields
+    from .fields import point_fields
     from .methods.chebyshev import chebyshev_points
     from . import kinematics as K
 
     sc = eq.scene
     bvp = ShellBVP(sc)
     P = bvp.P
-    ends_s = piece_ends(sc)
+    ends_s = sc.piece_ends
     bounds = [(float(ends_s[i]), float(ends_s[i + 1])) for i in range(P)]
     c = np.asarray(sc.field_parameters, dtype=float)
     Nb = BASE_DEGREE

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import kinematics as K
 from .compiled import point_functions, solve_2x2
-from .fields import piece_ends, piece_segments, point_fields
+from .fields import point_fields
 from .jaxsetup import jax
 from .packed import Packed
 from .fields import call_fields
@@ -134,7 +134,7 @@ def kernel_key(scene, log_poles) -> tuple:
     its pieces lie on (their trace keys and starts, not their extents), its ends, monitor
     and number of field parameters."""
     geo = scene.geometry
-    segs = piece_segments(scene)
+    segs = scene.piece_segments
     geometry = tuple((type(geo.segments[k]).__name__, geo.segments[k].trace_key(),
                       float(geo.segment_starts[k]), float(geo.theta_offsets[k])) for k in segs)
     ends = tuple((e.kind, _end_loads(e)) for e in scene.ends)
@@ -198,7 +198,7 @@ def _build(scene, log_poles, key) -> Kernels:
     base = disk_key(functions, *key[:5], *key[9:])
     P = scene.pieces
     geo = scene.geometry
-    segs = piece_segments(scene)
+    segs = scene.piece_segments
     poles = tuple(e.kind == "pole" for e in scene.ends)
     kinds = tuple(e.kind for e in scene.ends)
     terms = tuple(scene.monitor_terms)
@@ -497,12 +497,26 @@ def _build(scene, log_poles, key) -> Kernels:
     )
 
 
+#: :func:`untraceable`'s verdicts, per scene structure (:func:`kernel_key`)
+_TRACEABLE: "OrderedDict[tuple, str]" = OrderedDict()
+
+
 def untraceable(scene) -> str:
     """Why JAX cannot trace the scene's fields (every method traces them), or "" if it can;
-    one trace per piece."""
+    one trace per piece, once per scene structure (:func:`kernel_key`)."""
+    key = kernel_key(scene, (False, False))
+    found = _TRACEABLE.get(key)
+    if found is None:
+        found = _TRACEABLE[key] = _untraceable(scene)
+        while len(_TRACEABLE) > 4 * KERNELS_KEPT:
+            _TRACEABLE.popitem(last=False)
+    return found
+
+
+def _untraceable(scene) -> str:
     n_c = len(scene.field_parameters)
     for i in range(scene.pieces):
-        s, p = jnp.float64(0.5 * (piece_ends(scene)[i] + piece_ends(scene)[i + 1])), \
+        s, p = jnp.float64(0.5 * (scene.piece_ends[i] + scene.piece_ends[i + 1])), \
             jnp.float64(0.0)
         for name in ("fields", "through_thickness", "thickness"):
             fn = getattr(scene, name)

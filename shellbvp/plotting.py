@@ -22,10 +22,10 @@ STIMULUS_TOL = 1e-12
 def stimulated(eq) -> np.ndarray:
     """Per node of ``eq``, whether the stimulus acts there: a target metric g != 1 or a
     target curvature kb different from the reference's, at the equilibrium's parameter."""
-    from .fields import piece_ends, reference_point
+    from .fields import reference_point
 
     sc = eq.scene
-    edges = piece_ends(sc)
+    edges = sc.piece_ends
     piece = np.clip(np.searchsorted(edges, eq.s, side="right") - 1, 0, sc.pieces - 1)
     out = np.zeros(eq.s.shape, dtype=bool)
     for i in range(sc.pieces):

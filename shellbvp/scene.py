@@ -35,7 +35,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Callable
 
 import numpy as np
@@ -340,27 +340,27 @@ class Scene:
         """The meridian's arclength L."""
         return self.geometry.length
 
-    @property
+    @cached_property
     def curvature_radius(self) -> float:
         """The reference's smallest radius of curvature 1 / max |k_a| over the meridian (its
         length where it is flat): the length the thickness is small against."""
         return curvature_radius(self.geometry)
 
-    @property
+    @cached_property
     def shallowness(self) -> float:
         """T = L / sqrt(h R_c): the meridian's length in widths of the bending layer
         (Theta / sqrt(h) for a cap of the unit sphere), which sets the resolution the
         methods need."""
         return self.length / math.sqrt(self.h * self.curvature_radius)
 
-    @property
+    @cached_property
     def pinned(self) -> int | None:
         """The end (0 first, 1 second) whose axial position is held to remove the axial
         translation where no end fixes z (the first; its axial force is then a reaction,
         zero when the loads balance), or None."""
         return None if any(e.fixes_z for e in self.ends) else 0
 
-    @property
+    @cached_property
     def monitor_terms(self) -> tuple:
         """The monitor as ((coefficient, component, end), ...), components ``"z"``,
         ``"r"``, ``"theta"`` of the displacement from the reference at end 0 (first) or 1
@@ -378,7 +378,7 @@ class Scene:
             return ((1.0, "z", 1), (-1.0, "z", 0))
         return _parse_monitor(self.monitor)
 
-    @property
+    @cached_property
     def monitor_scale(self) -> float:
         """The length the monitor is measured in (continuation steps in its units): the
         reference's rise |z0(L) - z0(0)| (1 - cos Theta for a cap), or the thickness where
@@ -392,15 +392,29 @@ class Scene:
         return f"{self.parameter}_{self.parameter_unit}" if self.parameter_unit \
             else self.parameter
 
-    @property
+    @cached_property
     def interfaces(self) -> np.ndarray:
         """Every interior interface of the pieces, in s: the joints of the geometry and the
         breaks of the fields, merged."""
         return np.array(sorted(tuple(float(j) for j in self.geometry.joints) + self.breaks))
 
-    @property
+    @cached_property
     def pieces(self) -> int:
         return len(self.interfaces) + 1
+
+    @cached_property
+    def piece_ends(self) -> np.ndarray:
+        """The ends of the pieces in s, (P + 1,): 0, the interfaces (joints and breaks),
+        L."""
+        return np.concatenate([[0.0], self.interfaces, [self.length]])
+
+    @cached_property
+    def piece_segments(self) -> tuple:
+        """The index of the geometry's segment each piece lies on."""
+        ends = self.piece_ends
+        mid = 0.5 * (ends[:-1] + ends[1:])
+        starts = np.asarray(self.geometry.segment_starts, dtype=float)
+        return tuple(int(k) for k in np.searchsorted(starts, mid, side="right") - 1)
 
     @property
     def through_thickness_stimulus(self) -> bool:
@@ -431,13 +445,20 @@ class Scene:
     def fields_admissible(self, F) -> bool:
         """Whether field values F (..., k), the fields (:data:`shellbvp.kinematics.FIELDS`)
         along the last axis, are all admissible (finite, g > 0 and g = 1 without metric
-        stimulus, thickness and rhob1 > 0): the cheap test of every evaluation;
-        :meth:`check_fields` names what fails."""
+        stimulus, the thickness profile and rhob1 > 0 where the scene gives them): the cheap
+        test of every evaluation; :meth:`check_fields` names what fails."""
         g = F[..., :2]
         ok = ((g > 0) if self.metric else (g == 1)).all() and np.isfinite(F).all()
-        if ok and F.shape[-1] > 6:
-            ok = bool((F[..., 6] > 0).all() and (F[..., 7] > 0).all())
+        if ok and self._positive_fields and F.shape[-1] > 7:
+            ok = (F[..., self._positive_fields] > 0).all()
         return bool(ok)
+
+    @cached_property
+    def _positive_fields(self) -> list:
+        """The fields beyond g that must be positive and are not constant: the thickness
+        profile t and rhob1, where the scene gives them."""
+        return ([6] if self.thickness is not None else []) + \
+            ([7] if self.through_thickness is not None else [])
 
     def check_fields(self, out, piece, p):
         """Raise a named ValueError unless the fields F (:data:`shellbvp.kinematics.FIELDS`

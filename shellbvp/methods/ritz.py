@@ -350,15 +350,13 @@ class RitzSystem:
     dense_jacobian = False
 
     def __init__(self, bvp, method: Ritz):
-        from ..fields import piece_ends
-
         sc = bvp.scene
         self.bvp, self.method = bvp, method
         self.scene = sc
         q = self.q = int(method.degree)
         self.nq = quadrature_points(q)
         self.singular = singular_poles(sc)
-        ends = tuple(float(x) for x in piece_ends(sc))
+        ends = tuple(float(x) for x in sc.piece_ends)
         P = self.P = sc.pieces
         first = (ends[1] - ends[0]) / method.elements
         last = (ends[-1] - ends[-2]) / method.elements
