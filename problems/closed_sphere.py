@@ -7,7 +7,11 @@ through-thickness stimulus (rhob1 = 1).
 Ansatz: homogeneous radius 1 + w, so that lam1 = lam2 = 1 + w and k1 = k2 = -1/(1 + w); the
 target area is fixed, so the energy is proportional to W and the equilibrium is the root of
 dW/dw (computed by complex-step differentiation, exact to round-off) continuously connected
-to w = 0 at kappa = 0.
+to w = 0 at kappa = 0 (:func:`equilibrium`).
+The same sphere is also a scene like any other shell (:func:`scene`: the closed meridian
+from pole to pole, the cap-eversion stimulus, two poles): its boundary-value problem, solved
+without the ansatz (:func:`shell_equilibrium`), returns the homogeneous state, which the
+tests check against the root.
 
 The paper's expansions, which the tests and the docs' validation page compare with the
 symbolic series (:func:`series`):
@@ -29,7 +33,8 @@ from scipy.optimize import root_scalar
 
 import shellbvp
 
-__all__ = ["SphereEquilibrium", "equilibrium", "series", "series_value", "state"]
+__all__ = ["SphereEquilibrium", "equilibrium", "series", "series_value", "state", "scene",
+           "shell_equilibrium"]
 
 _STEP = 1e-30  # complex step: no subtractive cancellation, so any tiny step is exact
 
@@ -112,6 +117,28 @@ def equilibrium(kappa, *, h, lam=1.0, model="relaxed", material="cg", exact=Fals
     W = float(np.real(shellbvp.energy_density(*state(w, kappa), **opts)))
     return SphereEquilibrium(kappa, w, W, res, res / abs(stiff), stiff, sol.iterations,
                              float(h), float(lam), model, material, bool(exact))
+
+
+def scene(h, lam=1.0, *, model="relaxed", material="cg") -> shellbvp.Scene:
+    """The closed sphere of radius R0 = 1 as a shell of revolution: the meridian from its top
+    pole to its bottom pole, both ends poles (the top one pinned), the cap-eversion stimulus
+    in kappa (:func:`shellbvp.uniform_curvature`)."""
+    return shellbvp.Scene(geometry=shellbvp.closed_sphere(1.0), h=h, lam=lam, model=model,
+                          material=material, ends=("pole", "pole"),
+                          fields=shellbvp.uniform_curvature, parameter="kappa",
+                          parameter_unit="R0")
+
+
+def shell_equilibrium(kappa, *, h, lam=1.0, model="relaxed", material="cg",
+                      method="spectral") -> shellbvp.Equilibrium:
+    """The closed sphere's equilibrium at kappa from its boundary-value problem (:func:`scene`,
+    no ansatz), reached by natural continuation from kappa = 0 in steps of at most 0.5 in
+    kappa R0. Its radius change is ``eq.r`` at the equator minus 1."""
+    sc = scene(h, lam, model=model, material=material)
+    guess = None
+    for k in np.linspace(0.0, kappa, max(2, int(np.ceil(abs(kappa) / 0.5)) + 1))[1:-1]:
+        guess = shellbvp.solve(sc, k, method=method, guess=guess, estimate_error=False)
+    return shellbvp.solve(sc, kappa, method=method, guess=guess)
 
 
 def series(order=2, *, model="relaxed", material="cg"):

@@ -94,3 +94,22 @@ def test_cli_runs_and_rejects_bad_input(capsys):
     assert e.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "h must lie in (0, 1)" in err[0]
+
+
+@pytest.mark.parametrize("model,material", [("plane_strain", "cg"), ("relaxed", "cg"),
+                                            ("relaxed", "nh")])
+def test_shell_of_revolution_returns_the_homogeneous_state(model, material):
+    """The closed sphere as a scene like any other (the meridian from pole to pole, two
+    poles): its boundary-value problem, solved without the homogeneous ansatz, returns the
+    homogeneous state, radius 1 + w with w the root of dW/dw (an independent route: a scalar
+    root of the energy density), uniform along the meridian and free of forces."""
+    kappa, h = 1.5, 0.05
+    lam = 3.0 if material == "cg" else 1.0
+    root = cs.equilibrium(kappa, h=h, lam=lam, model=model, material=material)
+    eq = cs.shell_equilibrium(kappa, h=h, lam=lam, model=model, material=material)
+    r_eq, z_eq = eq(np.array([np.pi / 2]))[:2, 0]  # the equator: its height is the centre's
+    radius = np.hypot(eq.r, eq.z - z_eq)
+    assert abs(r_eq - (1 + root.w_over_R0)) < 1e-10
+    assert np.max(np.abs(radius - (1 + root.w_over_R0))) < 1e-10
+    assert np.max(np.abs(eq.lam1 - eq.lam2)) < 1e-10
+    assert np.max(np.abs(eq.F_r)) < 1e-12 and np.max(np.abs(eq.F_z)) < 1e-12
