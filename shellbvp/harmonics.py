@@ -430,7 +430,7 @@ def _constraints(base: _Base, n: int) -> np.ndarray:
         th_l, lam_l = base.ends[(i, "b")][:2]
         th_r, lam_r = base.ends[(i + 1, "a")][:2]
         rows.append(rot(i, "b", th_l, lam_l) - rot(i + 1, "a", th_r, lam_r))
-    return np.array(rows)
+    return np.array(rows).reshape(len(rows), -1) if rows else np.zeros((0, 0))
 
 
 def _interface_row(base: _Base, n: int, i: int) -> int:
@@ -479,8 +479,11 @@ def _space(base: _Base, D, M, n: int) -> _Space:
     from scipy.linalg import cholesky, qr, solve_triangular
 
     A = _constraints(base, n)
-    Q, _ = qr(A.T, mode="full")
-    Z = Q[:, A.shape[0]:]                                    # null space of the constraints
+    if A.size:
+        Q, _ = qr(A.T, mode="full")
+        Z = Q[:, A.shape[0]:]                                # null space of the constraints
+    else:                                                    # free ends: nothing holds it
+        Z = np.eye(M.shape[0])
     rigid = []
     modes = _rigid(base, n)
     if modes:

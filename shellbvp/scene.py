@@ -476,8 +476,10 @@ class Scene:
             raise ValueError("stimulus fields g1, g2 must be > 0")
         if len(F) > 6 and np.any(F[6] <= 0):
             raise ValueError(f"the thickness profile must be > 0 along the meridian (piece "
-                             f"{piece}); a thickness that vanishes is beyond the first-order "
-                             f"form: give a small positive thickness there")
+                             f"{piece}): the first-order form divides by the bending "
+                             f"stiffness; for a thickness that vanishes at an end use "
+                             f"method='energy' (direct minimisation), or give a small positive "
+                             f"thickness there")
         if len(F) > 7 and np.any(F[7] <= 0):
             raise ValueError("through-thickness stimulus rhob1 must be > 0")
         raise ValueError("the scene has metric=False but its fields give g1 or g2 != 1")

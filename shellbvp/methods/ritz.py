@@ -71,6 +71,18 @@ REFINE_STEP = 4
 APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 
 
+#: the innermost element at a singular pole, in thicknesses h (:attr:`Ritz.core`). The
+#: reduced energy is a thin-shell expansion, valid where the curvatures vary on lengths
+#: >> h; at a singular pole its solution has curvatures ~ log s, which below s ~ h reach
+#: h|k| >~ 1 and make W non-convex there: elements that resolve that core move where the
+#: discrete Hessian turns indefinite with the resolution (budding eta = (0.5, 1): kbar =
+#: 2.44, 1.40, 0.98 with innermost elements 4e-8, 1e-10, 4e-13 R0), an element of the
+#: thickness's size does not
+CORE = 1.0
+#: the innermost element of the default apex layers (``Ritz.core`` None), in thicknesses
+APEX_CORE = 0.1
+
+
 @dataclass(frozen=True)
 class Ritz:
     """Direct minimisation of the discrete reduced energy on spectral elements.
@@ -78,14 +90,25 @@ class Ritz:
     Attributes:
         degree: polynomial degree per element (q; theta, Lambda and r at its q + 1
             Chebyshev-Lobatto nodes, the multiplier at its q Gauss points).
-        elements: elements per piece of the scene, of equal length (outside the apex
+        elements: elements per piece of the scene, of equal length (outside the pole
             layers).
-        layers: geometric layers toward the apex in the first piece; None (default): none
-            where the apex is regular, and where it is singular (a conical target,
-            g1 != g2, or an anisotropic target curvature, kb1 != kb2, at s = 0) enough that
-            the innermost element is ``APEX_CORE`` thicknesses long (``APEX_CORE``: below
-            the thickness the thin-shell energy is not valid, and its log-singular apex
-            curvatures make it non-elliptic there).
+        core: where a pole is singular (a conical target, g1 != g2, or an anisotropic
+            target curvature, kb1 != kb2, on the axis), the length of the innermost element
+            there, in thicknesses h: the elements grow from it by 1/``grading`` per layer to
+            the uniform ones; None (default): geometric layers from the uniform elements
+            down to ``APEX_CORE`` h. The reduced energy is a thin-shell
+            expansion that does not resolve the shell inside a disc of radius ~ h around
+            such a pole (its log-singular curvatures make it non-elliptic there); one
+            element of the core's size does not resolve it either, so the result does not
+            depend on what the theory cannot say (the spread over core lengths is part of
+            an error estimate; see the budding study).
+        core_degree: the polynomial degree of the innermost element at a singular pole (its
+            theta, Lambda and r of this degree, its multiplier one less), so that the
+            element does not resolve the core it spans; None (default): ``degree``, as every
+            other element.
+        layers: instead of ``core``, this many geometric layers toward a singular pole (each
+            ``grading`` times the next), the innermost then as short as they make it; None
+            (default): from ``core``.
         grading: ratio of the lengths of consecutive layers (0 < grading < 1).
     """
 
@@ -93,6 +116,8 @@ class Ritz:
     elements: int = 2
     layers: int | None = None
     grading: float = 0.15
+    core: float | None = None
+    core_degree: int | None = None
     name = "energy"
 
     def __post_init__(self):
@@ -109,25 +134,42 @@ class Ritz:
                              f"{self.layers!r}")
         if not (isinstance(self.grading, (int, float)) and 0.01 <= self.grading <= 0.9):
             raise ValueError(f"grading must be a number in [0.01, 0.9], got {self.grading!r}")
+        if self.core is not None and not (isinstance(self.core, (int, float))
+                                          and 0.01 <= self.core <= 100):
+            raise ValueError(f"core must be None or a number in [0.01, 100] (the innermost "
+                             f"element at a singular pole, in thicknesses), got {self.core!r}")
+        if self.core is not None and self.layers is not None:
+            raise ValueError("give core (the innermost element's length) or layers, not both")
+        if self.core_degree is not None and not (
+                isinstance(self.core_degree, (int, np.integer))
+                and 1 <= self.core_degree <= self.degree):
+            raise ValueError(f"core_degree must be None or an integer in [1, degree = "
+                             f"{self.degree}], got {self.core_degree!r}")
 
     def discretise(self, bvp) -> "RitzSystem":
         return RitzSystem(bvp, self)
 
 
-#: length of the innermost element of the apex layers, in thicknesses h. The reduced energy
-#: is a thin-shell expansion, valid where the curvatures vary on lengths >> h; at a
-#: singular apex its solution has curvatures ~ log s, which below s ~ h reach h|k| >~ 1 and
-#: make W non-convex there, so that resolving the apex deeper moves where the discrete
-#: Hessian turns indefinite (budding eta = (0.5, 1): kbar = 2.44, 1.40, 0.98 with innermost
-#: elements 4e-8, 1e-10, 4e-13 R0) while w does not change (eta = (0, 0.5), kbar = 20:
-#: w = 0.0258381199, ...218, ...218 with 2, 4 and 6 layers, innermost 1e-3, 2.5e-5, 6e-7)
-APEX_CORE = 0.1
 
 
-def auto_layers(grading: float, first: float, h: float) -> int:
-    """Geometric layers that take the first element (length ``first``) down to an innermost
-    element of APEX_CORE h (none where the first element is already that short)."""
-    return max(0, math.ceil(math.log(APEX_CORE * h / first) / math.log(grading)))
+def graded_piece(a: float, b: float, inner: float, grading: float, elements: int,
+                 at_end: bool = False) -> list:
+    """Cuts of the piece [a, b] graded toward a (toward b with ``at_end``): the innermost
+    element ``inner`` long, each next one 1/``grading`` times longer while shorter than the
+    piece's uniform elements ((b - a) / ``elements``), then the rest in uniform elements no
+    longer than those; the uniform cuts where ``inner`` is not shorter than them."""
+    span, uniform = b - a, (b - a) / elements
+    if inner >= uniform:
+        return list(np.linspace(a, b, elements + 1))
+    lengths = [inner]
+    while lengths[-1] / grading < uniform and sum(lengths) + lengths[-1] / grading < span:
+        lengths.append(lengths[-1] / grading)
+    rest = span - sum(lengths)
+    n = max(1, math.ceil(rest / uniform - 1e-9))
+    lengths += [rest / n] * n
+    x = np.concatenate([[0.0], np.cumsum(lengths)])
+    x[-1] = span
+    return list(a + x) if not at_end else list(b - x[::-1])
 
 
 def singular_poles(scene) -> tuple:
@@ -358,30 +400,60 @@ class RitzSystem:
         self.singular = singular_poles(sc)
         ends = tuple(float(x) for x in sc.piece_ends)
         P = self.P = sc.pieces
-        first = (ends[1] - ends[0]) / method.elements
-        last = (ends[-1] - ends[-2]) / method.elements
-        auto = [auto_layers(method.grading, length, sc.h) if singular else 0
-                for singular, length in zip(self.singular, (first, last))]
         given = None if method.layers is None else int(method.layers)
-        self.end_layers = tuple(a if given is None else (given if singular else 0)
-                                for a, singular in zip(auto, self.singular))
-        if given is not None and not any(self.singular):
-            self.end_layers = (given, 0)
-        self.layers = sum(self.end_layers)
-        edges, counts = [], []
+        core = None if method.core is None else float(method.core)
+        if given is None and core is None:
+            # the default layers: from the uniform elements, each grading times the next,
+            # down to APEX_CORE h
+            uniform = [(ends[1] - ends[0]) / method.elements,
+                       (ends[-1] - ends[-2]) / method.elements]
+            given = max([0] + [max(0, math.ceil(math.log(APEX_CORE * sc.h / u)
+                                                / math.log(method.grading)))
+                               for u, singular in zip(uniform, self.singular) if singular])
+            graded_default = True
+        else:
+            graded_default = False
+        # where the mesh is graded: toward each singular pole; with ``layers`` given, toward
+        # the first end too (a regular one)
+        graded_ends = (self.singular[0] or (given is not None and not graded_default),
+                       self.singular[1])
+        edges, counts, layers = [], [], [0, 0]
         for i in range(P):
             a, b = ends[i], ends[i + 1]
             cuts = list(np.linspace(a, b, method.elements + 1))
-            if i == 0 and self.end_layers[0]:
-                e1 = a + (b - a) / method.elements
-                cuts = [a] + [a + (e1 - a) * method.grading ** k
-                              for k in range(self.end_layers[0], 0, -1)] + cuts[1:]
-            if i == P - 1 and self.end_layers[1]:
-                e1 = b - (b - a) / method.elements
-                cuts = cuts[:-1] + [b - (b - e1) * method.grading ** k
-                                    for k in range(1, self.end_layers[1] + 1)] + [b]
+            ends_here = [end for end in (1, 0) if graded_ends[end]
+                         and i == (0 if end == 0 else P - 1)]
+            if given is None and ends_here:
+                if len(ends_here) == 2:          # a piece between two singular poles
+                    mid = 0.5 * (a + b)
+                    half = max(1, method.elements // 2)
+                    cuts = graded_piece(a, mid, core * sc.h, method.grading, half)[:-1] + \
+                        graded_piece(mid, b, core * sc.h, method.grading, half, True)
+                else:
+                    cuts = graded_piece(a, b, core * sc.h, method.grading, method.elements,
+                                        ends_here[0] == 1)
+                for end in ends_here:
+                    d = np.diff(cuts)
+                    k = 0 if end == 0 else len(d) - 1
+                    layers[end] = int(d[k] < (b - a) / method.elements * (1 - 1e-9))
+                ends_here = []
+            for end in ends_here:
+                lo, hi = (cuts[0], cuts[1]) if end == 0 else (cuts[-2], cuts[-1])
+                if end == 0:
+                    graded = [lo] + [lo + (hi - lo) * method.grading ** k
+                                     for k in range(given, 0, -1)] + [hi]
+                else:
+                    graded = [lo] + [hi - (hi - lo) * method.grading ** k
+                                     for k in range(1, given + 1)] + [hi]
+                layers[end] = len(graded) - 2
+                cuts = graded + cuts[2:] if end == 0 else cuts[:-2] + graded
             edges.append(np.array(cuts))
             counts.append(len(cuts) - 1)
+        self.end_layers = tuple(layers)
+        self.layers = sum(self.end_layers)
+        #: the innermost element at each singular pole (nan where none is graded)
+        self.core_lengths = (float(edges[0][1] - edges[0][0]) if layers[0] else math.nan,
+                             float(edges[-1][-1] - edges[-1][-2]) if layers[1] else math.nan)
         self.pieces = tuple(counts)
         self.piece_ends = np.array(ends)
         self.ea = np.concatenate([e[:-1] for e in edges])            # element starts
@@ -446,8 +518,21 @@ class RitzSystem:
         scale[off_lam:off_r] = 0.0               # Lambda's: the largest of its elements'
         np.maximum.at(scale, lam_cols, np.repeat(np.minimum(1.0, self.L / l0)[:, None], n1, 1))
         self.scale = scale[self.free]
+        #: the kind of every unknown (0 theta, 1 Lambda, 2 r, 3 the multiplier f, 4 the axial
+        #: force's)
+        kind = np.full(self.n_full, 4)
+        kind[:off_lam], kind[off_lam:off_r], kind[off_r:off_f] = 0, 1, 2
+        kind[off_f:off_f + E * q] = 3
+        self.kind = kind[self.free]
+        #: the core elements' reduction (None: the unknowns are the free ones themselves)
+        self.T = None
+        cores = [e for end, e in ((0, 0), (1, E - 1)) if self.singular[end] and
+                 layers[end] and method.core_degree is not None and method.core_degree < q
+                 and method.core is not None]
+        if cores:
+            self._reduce_cores(sorted(set(cores)), int(method.core_degree), free, scale, kind)
         where = np.full(self.n_full, -1)
-        where[self.free] = np.arange(self.size)
+        where[self.free] = np.arange(self.free.size)
         self._where = where
         rows = np.broadcast_to(where[self.idx][:, :, None], (E, 4 * q + 3, 4 * q + 3))
         cols = np.broadcast_to(where[self.idx][:, None, :], (E, 4 * q + 3, 4 * q + 3))
@@ -461,11 +546,101 @@ class RitzSystem:
         self.evaluations = 0
         self._monitor = None
 
+    def _reduce_cores(self, cores, qc, free, scale, kind):
+        """Make the core elements (the innermost at singular poles) of degree qc: their
+        theta, Lambda and r at the q + 1 nodes are the interpolants of their values at qc + 1
+        Chebyshev-Lobatto nodes (the two ends, shared with the neighbours, and qc - 1 new
+        unknowns), their multiplier at the q Gauss points that of qc values at qc Gauss
+        points: x_full = fixed + T u, u the reduced unknowns (the free ones outside the
+        cores and the cores' new ones), and ``Linv`` the left inverse that reads u from a
+        full vector (the new ones by interpolating the full nodal values)."""
+        import scipy.sparse as sps
+
+        q, n1 = self.q, self.q + 1
+        t = chebyshev_points(q)
+        tl = chebyshev_points(qc)
+        A = _barycentric(tl, _lobatto_weights(qc), t)                 # (q + 1, qc + 1)
+        A_down = _barycentric(t, _lobatto_weights(q), tl)             # (qc + 1, q + 1)
+        gh, _ = _gauss(q)
+        gl, _ = _gauss(qc)
+        B = _barycentric(gl, _general_weights(gl), gh)                # (q, qc)
+        B_down = _barycentric(gh, _general_weights(gh), gl)           # (qc, q)
+        interior = set()
+        for e in cores:
+            interior |= set(self.idx[e, 1:q].tolist() + self.idx[e, n1 + 1:n1 + q].tolist()
+                            + self.idx[e, 2 * n1 + 1:2 * n1 + q].tolist()
+                            + self.idx[e, 3 * n1:].tolist())
+        kept = [k for k in np.flatnonzero(free) if k not in interior]
+        col = {k: i for i, k in enumerate(kept)}
+        rows, cols, vals = list(kept), list(range(len(kept))), [1.0] * len(kept)
+        lrows, lcols, lvals = list(range(len(kept))), list(kept), [1.0] * len(kept)
+        new_scale, new_kind = list(scale[kept]), list(kind[kept])
+        fixed = self.fixed.copy()
+        n = len(kept)
+        for e in cores:
+            for f in range(3):                       # theta, Lambda, r: nodal, shared ends
+                loc = self.idx[e, f * n1:(f + 1) * n1]
+                new = list(range(n, n + qc - 1))
+                n += qc - 1
+                for j in range(1, q):
+                    for m in range(qc + 1):
+                        a = A[j, m]
+                        if a == 0.0:
+                            continue
+                        if 0 < m < qc:
+                            rows.append(loc[j]), cols.append(new[m - 1]), vals.append(a)
+                        else:
+                            end = loc[0] if m == 0 else loc[q]
+                            if end in col:
+                                rows.append(loc[j]), cols.append(col[end]), vals.append(a)
+                            else:
+                                fixed[loc[j]] += a * self.fixed[end]
+                for m in range(1, qc):
+                    lrows += [new[m - 1]] * n1
+                    lcols += list(loc)
+                    lvals += list(A_down[m])
+                new_scale += [float(np.max(scale[loc]))] * (qc - 1)
+                new_kind += [f] * (qc - 1)
+            loc = self.idx[e, 3 * n1:]               # the multiplier, element-local
+            new = list(range(n, n + qc))
+            n += qc
+            for j in range(q):
+                for m in range(qc):
+                    rows.append(loc[j]), cols.append(new[m]), vals.append(B[j, m])
+            for m in range(qc):
+                lrows += [new[m]] * q
+                lcols += list(loc)
+                lvals += list(B_down[m])
+            new_scale += [1.0] * qc
+            new_kind += [3] * qc
+        self.T = sps.csr_matrix((vals, (rows, cols)), shape=(self.n_full, n))
+        self.Linv = sps.csr_matrix((lvals, (lrows, lcols)), shape=(n, self.n_full))
+        self.fixed = fixed
+        self.free = np.array(kept)              # the unknowns that are full ones themselves
+        self.scale = np.array(new_scale)
+        self.kind = np.array(new_kind)
+        self.size = n
+
     # --- unknowns -------------------------------------------------------------------------
     def full(self, U) -> np.ndarray:
+        """The full unknowns (theta, Lambda, r at every node, f, [the axial force]) of the
+        reduced U (scaled)."""
+        if self.T is not None:
+            return self.fixed + self.T @ (U / self.scale)
         x = self.fixed.copy()
         x[self.free] = U / self.scale
         return x
+
+    def reduced(self, x) -> np.ndarray:
+        """U (scaled) from full unknowns x: the free ones, and a core element's by
+        interpolation (:meth:`_reduce_cores`)."""
+        if self.T is not None:
+            return (self.Linv @ x) * self.scale
+        return x[self.free] * self.scale
+
+    def _reduce_vector(self, v):
+        """A gradient in the full unknowns as one in the reduced ones (unscaled)."""
+        return self.T.T @ v if self.T is not None else v[self.free]
 
     def local(self, U) -> np.ndarray:
         """The unknowns per element (E, 4 q + 3): theta (less the kinks passed), Lambda, r
@@ -591,6 +766,8 @@ class RitzSystem:
             Rf[th_node] -= 2 * math.pi * Q[2]
             Rpf[r_node] -= 2 * math.pi * dQ[0]
             Rpf[th_node] -= 2 * math.pi * dQ[2]
+        if self.T is not None:
+            return self._reduced_system(U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE)
         rows, cols, vals = [self._rows], [self._cols], [H.ravel()[self._keep]]
         if self.z_constraint:
             # d L / d fz = 2 pi k (z0a - z0b - I); its cross terms -2 pi k dI/dU
@@ -615,6 +792,42 @@ class RitzSystem:
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(v_all))):
             raise ConvergenceError(f"energy method: non-finite energy gradient at "
                                    f"{sc.parameter} = {p:g}")
+        return R, J, Rp
+
+    def _reduced_system(self, U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE):
+        """:meth:`evaluate`'s (R, J, Rp) through the core reduction: the full gradient,
+        Hessian and p-derivative (the axial constraint's terms included) mapped by T."""
+        import scipy.sparse as sps
+
+        from ..errors import ConvergenceError
+
+        E, m = self.E, self.idx.shape[1]
+        r = np.broadcast_to(self.idx[:, :, None], (E, m, m)).ravel()
+        c_ = np.broadcast_to(self.idx[:, None, :], (E, m, m)).ravel()
+        rows, cols, vals = [r], [c_], [H.ravel()]
+        if self.z_constraint:
+            z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
+            Rf[-1] = 2 * math.pi * k * (z0a - z0b - I)
+            dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
+                             self.n_full)
+            sel = np.flatnonzero(dI[:-1] != 0)
+            entries = -2 * math.pi * k * dI[sel]
+            last = np.full(sel.size, self.n_full - 1)
+            rows += [sel, last]
+            cols += [last, sel]
+            vals += [entries, entries]
+        Jf = sps.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                    np.concatenate(cols))),
+                            shape=(self.n_full, self.n_full))
+        T, c = self.T, self.scale
+        Dinv = sps.diags(1.0 / c)
+        J = (Dinv @ (T.T @ Jf @ T) @ Dinv).tocsc()
+        R = (T.T @ Rf) / c
+        Rp = (T.T @ Rpf) / c
+        self._monitor = (np.array(U, dtype=float), self._observable(xfull, V, gI, I))
+        if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J.data))):
+            raise ConvergenceError(f"energy method: non-finite energy gradient at "
+                                   f"{self.scene.parameter} = {p:g}")
         return R, J, Rp
 
     def _end_values(self, xfull, I):
@@ -651,7 +864,7 @@ class RitzSystem:
             else:
                 grad[ends[end]["nodes"][comp]] += coef
         scale = self.bvp.scale
-        return value / scale, grad[self.free] / self.scale / scale
+        return value / scale, self._reduce_vector(grad) / self.scale / scale
 
     def monitor(self, U):
         """(m, dm/dU): the scene's monitor (the last evaluation's when it was at U)."""
@@ -694,7 +907,7 @@ class RitzSystem:
         x[off_f:off_f + E * q] = np.asarray(profile(sc_.ravel()), dtype=float)[4]
         if self.z_constraint:             # the axial force: F_z = -(h^2/12) fz
             x[-1] = -float(np.mean(Y[5]))
-        return x[self.free] * self.scale
+        return self.reduced(x)
 
     def _node_offset(self):
         """theta's kink offset at every global node (an interface's node belongs to the next
@@ -859,7 +1072,7 @@ class RitzSystem:
         x[off_f:off_f + other.E * other.q] = self.interpolate(f, sc_.ravel(), at="collocation")
         if other.z_constraint:
             x[-1] = -12.0 / self.scene.h ** 2 * self._axial_force(U, p)
-        return x[other.free] * other.scale
+        return other.reduced(x)
 
     # --- resolution -----------------------------------------------------------------------
     def with_degree(self, q) -> "RitzSystem":
@@ -925,7 +1138,7 @@ class RitzSystem:
         J = J.toarray()
         q = self.q
         off_f, nodes = self.offsets[3], self.offsets[4]
-        primal = self.free < off_f
+        primal = self.kind < 3
         K, A = J[np.ix_(primal, primal)], J[np.ix_(~primal, primal)]
         # Jacobi scaling (a congruence: the inertia, so the stability, is unchanged): the
         # stiffness of the unknowns of elements graded toward the apex falls like their
@@ -938,8 +1151,11 @@ class RitzSystem:
         vals, vecs = eigh((Kr + Kr.T) / 2, subset_by_index=[0, k - 1])
         modes = d[:, None] * (Z @ vecs) / self.scale[primal][:, None]
         modes /= np.max(np.abs(modes), axis=0)
-        full = np.zeros((self.n_full, k))
-        full[self.free[primal]] = modes
+        if self.T is not None:
+            full = np.asarray(self.T[:, np.flatnonzero(primal)] @ modes)
+        else:
+            full = np.zeros((self.n_full, k))
+            full[self.free[primal]] = modes
         th_modes = full[:nodes].T
         lam_nodes = full[self.idx[:, q + 1:2 * q + 2]]             # (E, q + 1, k)
         lam_modes = np.concatenate([lam_nodes[:, :-1].reshape(-1, k), lam_nodes[-1:, -1]]).T
