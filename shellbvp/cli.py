@@ -179,7 +179,8 @@ def _follow_file(sf, a) -> None:
     if a.json:
         print(json.dumps(run.summary()))
         return
-    print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}")
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}{unit}")
     for k, fold in enumerate(run.folds, 1):
         print(f"fold {k}: " + _values(fold, sf))
     print("last: " + _values(run.last, sf))
@@ -191,9 +192,10 @@ def _values(d: dict, sf) -> str:
     """A row of a scene file's results: the parameter (with its error estimate) and the
     observables, each with its unit."""
     unit = sf.units.parameter_label
-    head = f"{sf.parameter} = {d['p']:.10g}" + (f" {unit}" if unit else "")
+    head = f"{sf.parameter} = {d['p']:.10g}"
     if "error_estimate" in d:
         head += f" +- {d['error_estimate']:.1e}"
+    head += f" {unit}" if unit else ""
     units = {ob.name: ob.unit for ob in sf.observables}
     return ", ".join([head] + [f"{n} = {d[n]:.8g} {units[n]}" for n in units])
 

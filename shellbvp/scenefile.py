@@ -867,7 +867,8 @@ def _thickness(geometry, meridian, L, param):
     """(h in the file's units, the Scene's thickness profile or None)."""
     expr = parse(geometry.raw("thickness"), ("s", "r", "z"), key="geometry.thickness")
     x = _reference_points(meridian)
-    h = np.asarray(PointFunction((expr,), (1.0,), L, param, single=True)(x), dtype=float)
+    with np.errstate(all="ignore"):
+        h = np.asarray(PointFunction((expr,), (1.0,), L, param, single=True)(x), dtype=float)
     h = np.broadcast_to(h, x.s.shape)
     bad = ~np.isfinite(h) | (h <= 0)
     if bad.any():
@@ -933,7 +934,8 @@ def _check_values(fn, x, names, positive, units, param):
     """Refuse stimulus values that are not finite, or not > 0 where they must be, on the
     check samples at the range's two ends."""
     for t in (0.0, 1.0):
-        values = fn(x, t)
+        with np.errstate(all="ignore"):
+            values = fn(x, t)
         for k, (name, v) in enumerate(zip(names, values)):
             v = np.broadcast_to(np.asarray(v, dtype=float), x.s.shape)
             bad = ~np.isfinite(v) | ((v <= 0) if k in positive else False)
@@ -949,7 +951,8 @@ def _check_values(fn, x, names, positive, units, param):
 def _load(value, key, factor, param) -> LoadFunction:
     fn = LoadFunction(parse(value, (param.name,), key=key), factor, param)
     for t in (0.0, 1.0):
-        v = float(fn(t))
+        with np.errstate(all="ignore"):
+            v = float(fn(t))
         if not math.isfinite(v):
             raise ValueError(f"{key}: not finite at {param.name} = {param.user(t):.6g}")
     return fn
