@@ -16,34 +16,31 @@ key, e.g. ``geometry.segments[1].radius: must be > 0, got -1``.
 Units. The file's lengths and moduli are the user's own, in any units used consistently
 (metres and pascals, millimetres and N/mm^2, ...). Internally lengths are scaled by
 L = :attr:`shellbvp.geometry.Meridian.size` of the file's meridian (its largest r or its
-extent in z) and energies by the shear modulus mu (Koiter: mu = E / (2 (1 + nu)); cg, nh:
-mu as given). With h the thickness in the file's units (its largest value along the
-meridian where it varies):
+extent in z), stresses by the shear modulus mu (Koiter: mu = E / (2 (1 + nu)); cg, nh: mu
+as given) and energies by mu h L^2. With h the thickness in the file's units (its largest
+value along the meridian where it varies), a quantity of the file becomes inside:
 
-====================================  ===============================================
-in the file (user units)              inside the engine
-====================================  ===============================================
-a length (geometry, s, breaks)        length / L
-the thickness h                       h / L
-a curvature kb1, kb2                  kb L
-rhob1, rhob2 (1/length), rhob3        rhob1, rhob2 L, rhob3 L^2
-(1/length^2)
-the modulus lam (cg)                  lam / mu
-a pressure p (force / length^2)       P = p L / (mu h)
-a line force (force / length)         q / (mu h)
-a line moment (force length / length) m / (mu h L)
-====================================  ===============================================
+- a length (geometry, s, breaks) or the thickness: length / L;
+- a target curvature kb1, kb2 (1/length): kb L;
+- rhob1, rhob2 (1/length), rhob3 (1/length^2): rhob1, rhob2 L, rhob3 L^2;
+- the modulus lam (cg): lam / mu;
+- a pressure p (force/length^2): P = p L / (mu h);
+- a line force q (force/length): q / (mu h);
+- a line moment m (force length/length): m / (mu h L);
+- an energy E (modulus length^3 = force length): E / (mu h L^2).
 
-Expressions are evaluated in the file's units (they see s L, r L, z L, k1_ref / L,
-k2_ref / L and the parameter as given) and their values converted as above. Results come
+Expressions are evaluated in the file's units: they see s, r, z, k1_ref, k2_ref as the
+file measures them (the engine's s L, r L, z L, k1 / L, k2 / L) and the parameter p = P t,
+and their values are converted as above. Results come
 back in the file's units: displacements in its length unit, rotations in radians
 (counterclockwise in the (r, z) plane positive), energies in modulus x length^3
 (= force x length), the parameter and its error estimates in the parameter's own units.
 
-The parameter p runs from ``from`` to ``to``; the engine follows t = (p - from) /
-(to - from) instead, which runs from 0 to 1 whatever the parameter's size (a pressure of
-1e-6 E), so that its steps and fold tolerances are well scaled: solver messages name it
-``t_<name>``.
+The parameter p runs from ``from`` to ``to``; the engine follows t = p / P instead, P the
+power of ten nearest |to - from| (with its sign), so that t changes by about one over the
+range whatever the parameter's size (a pressure of 1e-6 E) and the continuation's steps and
+fold tolerances are well scaled: solver messages name it ``t_<name>``. P depends on the
+range's size only, so that a file whose range is edited keeps its compiled programs.
 
 The functions built from a file's expressions carry a ``cache_key`` (the canonical form of
 their expressions and every number they close over), so that the compiled programs of a
@@ -309,14 +306,16 @@ class Units:
 
 @dataclass(frozen=True)
 class _Parameter:
-    """The map between the file's parameter p and the engine's t = (p - start) / span."""
+    """The map between the file's parameter p and the engine's t = p / scale, and the
+    range of t (from, to), where a file's expressions are checked on loading (the range is
+    not part of the functions' cache keys: a new range compiles nothing new)."""
 
     name: str
-    start: float
-    span: float
+    scale: float
+    ends: tuple = (0.0, 1.0)
 
     def user(self, t):
-        return self.start + self.span * t
+        return self.scale * t
 
 
 def _array_module(*values):
@@ -357,7 +356,7 @@ class PointFunction(_KeyedFunction):
     ``f(x)`` -> one value (``single``: the thickness profile, which sees no parameter).
 
     Each expression sees s, r, z times ``length``, k1_ref and k2_ref over it, and the
-    parameter p = start + span t; its value is multiplied by its factor. Evaluated with
+    parameter p = scale t; its value is multiplied by its factor. Evaluated with
     ``jax.numpy`` where the engine traces it, numpy elsewhere.
     """
 
@@ -372,7 +371,7 @@ class PointFunction(_KeyedFunction):
         p = self.parameter
         object.__setattr__(self, "cache_key", _key_of(
             "point" if not self.single else "profile", self.expressions, self.factors,
-            self.length, p.name, p.start, p.span))
+            self.length, p.name, p.scale))
 
     def __call__(self, x, t=0.0):
         L = self.length
@@ -386,7 +385,7 @@ class PointFunction(_KeyedFunction):
 @dataclass(frozen=True, eq=False, repr=False)
 class LoadFunction(_KeyedFunction):
     """An expression of the parameter (a pressure, a line load) in the file's units,
-    converted to the engine's: ``f(t)`` = factor x value at p = start + span t."""
+    converted to the engine's: ``f(t)`` = factor x value at p = scale t."""
 
     expression: Expression
     factor: float
@@ -396,7 +395,7 @@ class LoadFunction(_KeyedFunction):
     def __post_init__(self):
         p = self.parameter
         object.__setattr__(self, "cache_key", _key_of(
-            "load", (self.expression,), (self.factor,), p.name, p.start, p.span))
+            "load", (self.expression,), (self.factor,), p.name, p.scale))
 
     def __call__(self, t):
         xp = _array_module(t)
@@ -476,9 +475,11 @@ class SceneFile:
         source: the file it was read from.
         title: its ``title`` ("" if none).
         scene: the :class:`shellbvp.Scene` (lengths / L, energies per mu h L^2, parameter
-            t = (p - from) / (to - from)).
+            t = p / scale).
         parameter: the parameter's name (e.g. ``"p"``, ``"kappa"``).
         start, stop: the parameter's range, ``from`` and ``to``, in its own units.
+        scale: the engine's unit of the parameter: the power of ten nearest |to - from|,
+            with the sign of to - from (t increases from ``from`` to ``to``).
         folds: stop after this many folds (None: at the end of the range).
         method: the method's name (:data:`METHOD_NAMES`).
         tol: the fold tolerance, in the parameter's units.
@@ -492,6 +493,7 @@ class SceneFile:
     parameter: str
     start: float
     stop: float
+    scale: float
     folds: int | None
     method: str
     tol: float
@@ -499,12 +501,13 @@ class SceneFile:
     units: Units = field(repr=False)
 
     @property
-    def span(self) -> float:
-        return self.stop - self.start
+    def t_range(self) -> tuple[float, float]:
+        """(from, to) as the engine's t = p / scale (increasing)."""
+        return self.start / self.scale, self.stop / self.scale
 
     def parameter_value(self, t):
-        """The file's parameter at the engine's t: from + (to - from) t."""
-        return self.start + self.span * np.asarray(t, dtype=float)
+        """The file's parameter at the engine's t: scale t."""
+        return self.scale * np.asarray(t, dtype=float)
 
     def follow(self, progress: Callable | None = None) -> "SceneBranch":
         """Continue the scene from ``from`` to ``to`` (:func:`shellbvp.follow`), stopping
@@ -526,11 +529,12 @@ class SceneFile:
         from .continuation.options import ContinuationOptions
         from .driver import follow as follow_scene
 
-        options = ContinuationOptions(fold_tol=self.tol / abs(self.span))
+        options = ContinuationOptions(fold_tol=self.tol / abs(self.scale))
         report = None if progress is None else \
             (lambda pt: progress(float(self.parameter_value(pt.p))))
-        branch = follow_scene(self.scene, method=self.method, p0=0.0, p_stop=(0.0, 1.0),
-                              n_folds=folds, options=options, progress=report)
+        branch = follow_scene(self.scene, method=self.method, p0=self.t_range[0],
+                              p_stop=self.t_range, n_folds=folds, options=options,
+                              progress=report)
         return SceneBranch.of(self, branch, folds)
 
     def first_instability(self, *, tol: float = 1e-6) -> "SceneInstability":
@@ -550,7 +554,7 @@ class SceneFile:
             kind=found.kind, n=None if none else int(found.n),
             p=float(self.parameter_value(found.p)),
             error_estimate=math.nan if none else float(found.error_estimate)
-            * abs(self.span), stop=found.stop, instability=found)
+            * abs(self.scale), stop=found.stop, instability=found)
 
     def observe(self, system, U, t) -> dict:
         """{name: value in the file's units} of every observable at the discrete solution
@@ -630,7 +634,7 @@ class SceneBranch:
             i = f.index
             arc = 0.5 * (branch.arclength[i] + branch.arclength[min(i + 1, len(points) - 1)])
             folds.append((float(arc), float(sf.parameter_value(f.p)), obs, math.nan, 1,
-                          float(f.error_estimate) * abs(sf.span)))
+                          float(f.error_estimate) * abs(sf.scale)))
         merged = sorted(points + folds, key=lambda row: (row[0], row[4]))
         label = f"[{u.parameter_label}]" if u.parameter_label else ""
         columns = (f"{sf.parameter}{label}", *[ob.column for ob in sf.observables],
@@ -701,11 +705,11 @@ def _stop_reason(sf: SceneFile, branch, n_folds) -> str:
         return branch.stop
     if n_folds is not None and len(branch.folds) >= n_folds:
         return f"after {len(branch.folds)} fold(s)"
-    t = float(branch.p[-1])
-    if t > 1.0:
+    t, (t_from, t_to) = float(branch.p[-1]), sf.t_range
+    if t > t_to:
         return f"reached {sf.parameter} = {sf.stop:.10g} (to)"
-    if t < 0.0:
-        return f"returned below {sf.parameter} = {sf.start:.10g} (from)"
+    if t < t_from:
+        return f"returned past {sf.parameter} = {sf.start:.10g} (from)"
     return "ended inside the range"
 
 
@@ -759,7 +763,8 @@ def _read(data: dict, source: str) -> SceneFile:
     meridian = _meridian(entries, L)
 
     parameter, start, stop, folds, p_label = _parameter(top)
-    param = _Parameter(parameter, start, stop - start)
+    scale = math.copysign(10.0 ** round(math.log10(abs(stop - start))), stop - start)
+    param = _Parameter(parameter, scale, (start / scale, stop / scale))
     mu, material = _material(top)
     h_user, thickness = _thickness(geometry, meridian, L, param)
     units = Units(L, mu, h_user, length_label, modulus_label, p_label)
@@ -767,7 +772,7 @@ def _read(data: dict, source: str) -> SceneFile:
     stimulus = _stimulus(top, meridian, units, param)
     pressure = _pressure(top, units, param)
     ends = _ends(top, meridian, units, param)
-    method, tol, monitor = _solver(top, stop - start)
+    method, tol, monitor = _solver(top, stop - start, scale)
     observables = _observables(top, units, meridian, parameter)
     try:
         scene = Scene(geometry=meridian, h=h_user / L, ends=ends, thickness=thickness,
@@ -775,7 +780,7 @@ def _read(data: dict, source: str) -> SceneFile:
                       **material, **stimulus)
     except ValueError as exc:
         raise ValueError(f"{_scene_key(str(exc))}: {_one_line(exc)}") from None
-    return SceneFile(source, title, scene, parameter, start, stop, folds, method, tol,
+    return SceneFile(source, title, scene, parameter, start, stop, scale, folds, method, tol,
                      observables, units)
 
 
@@ -933,7 +938,7 @@ def _stimulus(top, meridian, units, param):
 def _check_values(fn, x, names, positive, units, param):
     """Refuse stimulus values that are not finite, or not > 0 where they must be, on the
     check samples at the range's two ends."""
-    for t in (0.0, 1.0):
+    for t in param.ends:
         with np.errstate(all="ignore"):
             values = fn(x, t)
         for k, (name, v) in enumerate(zip(names, values)):
@@ -950,7 +955,7 @@ def _check_values(fn, x, names, positive, units, param):
 
 def _load(value, key, factor, param) -> LoadFunction:
     fn = LoadFunction(parse(value, (param.name,), key=key), factor, param)
-    for t in (0.0, 1.0):
+    for t in param.ends:
         with np.errstate(all="ignore"):
             v = float(fn(t))
         if not math.isfinite(v):
@@ -1006,12 +1011,13 @@ def _ends(top, meridian, units, param):
     return tuple(out)
 
 
-def _solver(top, span):
+def _solver(top, span, scale):
     t = top.table("solver", ("method", "tol", "monitor"))
     method = t.string("method", "spectral", choices=METHOD_NAMES)
     tol = t.number("tol", DEFAULT_RELATIVE_TOL * abs(span), positive=True)
-    if not tol < abs(span):
-        raise ValueError(f"solver.tol: must be below |to - from| = {abs(span):g}, got {tol:g}")
+    if not tol < 0.1 * abs(scale):
+        raise ValueError(f"solver.tol: must be below {0.1 * abs(scale):g} (a tenth of the "
+                         f"power of ten nearest |to - from|), got {tol:g}")
     monitor = t.string("monitor", "") or None
     if monitor is not None and re.search(r"s\s*=", monitor):
         raise ValueError(f"solver.monitor: the continuation's monitor is an end value "

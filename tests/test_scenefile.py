@@ -127,6 +127,18 @@ def test_expressions_see_the_files_units_and_convert_back(tmp_path):
     assert np.allclose(sf.scene.thickness(x), 1 - r_user**2 / 32)
 
 
+def test_a_new_range_keeps_the_compiled_programs(tmp_path):
+    """The parameter's scale is the power of ten nearest |to - from|: editing the range
+    within it changes no function's cache key (nothing compiles anew); the scale follows
+    the sign of to - from."""
+    a = load_scene(_write(tmp_path, PLATE, "a.toml"))
+    b = load_scene(_write(tmp_path, PLATE.replace("to = 1.0e-6", "to = 2.0e-6"), "b.toml"))
+    c = load_scene(_write(tmp_path, PLATE.replace("from = 0.0", "from = 3.0e-6"), "c.toml"))
+    assert a.scale == b.scale == 1e-6 and c.scale == -1e-6
+    assert a.scene.pressure.cache_key == b.scene.pressure.cache_key
+    assert c.t_range == pytest.approx((-3.0, -1.0))
+
+
 def test_functions_carry_a_disk_key(tmp_path):
     """The compiled programs of a file are kept on disk: every function the engine keys
     them by has a cache_key, equal for the same file read twice."""
@@ -277,6 +289,19 @@ def test_same_shell_in_metres_and_millimetres(plate_runs):
     assert b.last["w_centre"] == pytest.approx(1e3 * a.last["w_centre"], rel=1e-7)
 
 
+def test_small_pressure_gives_kirchhoffs_plate(plate_runs):
+    """An exact reference for the conversions: at a small pressure the clamped plate's
+    centre deflects by p a^4 / (64 D), D = E h^3 / (12 (1 - nu^2)), in the file's units
+    (solved on the scene the fixture compiled)."""
+    for unit, a, E, h in (("m", 1.0, 1.0, 0.01), ("mm", 1000.0, 1e-6, 10.0)):
+        sf = plate_runs[unit].scene_file
+        p = 1e-4 * sf.stop                       # w ~ 1e-3 h: linear to ~1e-6
+        eq = shellbvp.solve(sf.scene, p / sf.scale, estimate_error=False)
+        w = eq.w * sf.units.length               # the monitor: uz(first) - uz(second)
+        D = E * h**3 / (12 * (1 - 0.3**2))
+        assert w == pytest.approx(-p * a**4 / (64 * D), rel=1e-5), unit
+
+
 def test_table_csv_and_summary(plate_runs, tmp_path):
     run = plate_runs["m"]
     out = tmp_path / "plate.csv"
@@ -345,6 +370,19 @@ def test_cli_stability_json():
     result = json.loads(out.stdout)
     assert result["kind"] == "fold" and result["n"] == 0
     assert result["p"] == pytest.approx(3.1506415, abs=1e-6)
+
+
+@pytest.mark.slow
+def test_cli_stability_of_the_everting_cap_file_is_the_cap_modules():
+    """The cap's first instability is a bifurcation into n = 3 waves before the snap
+    (``shellbvp stability`` of the built-in cap); the file finds the same within the
+    estimates."""
+    runs = [json.loads(_cli(*argv).stdout) for argv in
+            (("stability", "everting-cap", "--json"), ("stability", "--json"))]
+    for r in runs:
+        assert r["kind"] == "bifurcation" and r["n"] == 3
+    assert runs[0]["p"] == pytest.approx(runs[1]["p"], abs=runs[0]["error_estimate"]
+                                         + runs[1]["error_estimate"])
 
 
 @pytest.mark.parametrize("argv,text,start", [
