@@ -561,44 +561,49 @@ class SceneFile:
         U of ``system`` (a method's discretisation of this scene) at the engine's t.
 
         Read from the discretisation's own interpolant (``bvp.profile(system.dense(U,
-        t))``), not from an :class:`shellbvp.Equilibrium`, which also inverts the
-        constitutive law at every node and integrates the energies: on the clamped plate
-        example that costs ~30 times as much per point. End values at a pole are the
-        pole's own (its z from the regular series, r and the rotation zero)."""
+        t))``), evaluated once at every place the observables name, not from an
+        :class:`shellbvp.Equilibrium`, which also inverts the constitutive law at every
+        node and integrates the energies (tens of times the cost per point). End values at
+        a pole are the pole's own: its z from the regular series, r and the rotation zero.
+        """
         bvp = system.bvp
-        profile = bvp.profile(system.dense(U, t))
-        return {ob.name: sum(sign * self._component(bvp, profile, comp, where)
+        places = list(dict.fromkeys(self._place(bvp, where) for ob in self.observables
+                                    for _, _, where in ob.terms))
+        states = bvp.profile(system.dense(U, t))(np.array([s for _, s in places]))
+        at = {place: states[:, k] for k, place in enumerate(places)}
+        return {ob.name: sum(sign * self._component(bvp, at[self._place(bvp, where)], comp,
+                                                    where)
                              for sign, comp, where in ob.terms)
                 for ob in self.observables}
 
-    def _component(self, bvp, profile, comp, where):
-        """One term of an observable: ``comp`` (ur, uz, rotation) at ``where`` (first,
-        second, or an arclength in the file's units), in the file's units."""
+    def _place(self, bvp, where) -> tuple:
+        """(end or None, s in the BVP's domain) of ``where`` (first, second, or an arclength
+        in the file's units): an arclength inside a pole's offset is the pole."""
+        if isinstance(where, float):
+            s = where / self.units.length
+            if s < bvp.s_a:
+                return 0, bvp.s_a
+            return (1, bvp.s_b) if s > bvp.s_b else (None, s)
+        return (0, bvp.s_a) if where == "first" else (1, bvp.s_b)
+
+    def _component(self, bvp, y, comp, where) -> float:
+        """One term of an observable, ``comp`` (ur, uz, rotation) at ``where`` with the
+        unknowns y there, in the file's units."""
         from .kernels import end_value
 
-        L, geo = self.units.length, self.scene.geometry
+        geo = self.scene.geometry
+        end, s = self._place(bvp, where)
         index = {"ur": 0, "uz": 1, "rotation": 2}[comp]
-        if isinstance(where, float):
-            s = where / L
-            end = 0 if s < bvp.s_a else 1 if s > bvp.s_b else None
-        else:
-            end = 0 if where == "first" else 1
         if end is None:
-            y = profile(np.array([s]))[:, 0]
-            ref = [float(v) for v in geo.evaluate(s)[:3]]
-            value = y[index] - ref[index]
+            value = y[index] - float(geo.evaluate(s)[index])
+        elif bvp.poles[end] and comp != "uz":
+            value = 0.0          # a pole stays on the axis, its tangent normal to it
         else:
-            y = profile(np.array([(bvp.s_a, bvp.s_b)[end]]))[:, 0]
-            pole = bvp.poles[end]
-            r0, z0, th0 = geo.at_end(("first", "second")[end])
-            if pole and comp != "uz":
-                value = 0.0          # a pole stays on the axis, its tangent normal to it
-            else:
-                theta_pole = (0.0, math.pi)[end]
-                value = float(end_value(y, "rz"[index] if index < 2 else "theta", pole,
-                                        theta_pole, np)) - (r0, z0, th0)[index]
+            ref = geo.at_end(("first", "second")[end])[index]
+            value = float(end_value(y, ("r", "z", "theta")[index], bvp.poles[end],
+                                    (0.0, math.pi)[end], np)) - ref
         # the engine's theta turns clockwise in (r, z): a counterclockwise rotation is -dtheta
-        return float(-value if comp == "rotation" else value * L)
+        return float(-value if comp == "rotation" else value * self.units.length)
 
 
 @dataclass(frozen=True)
