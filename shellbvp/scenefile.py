@@ -58,7 +58,7 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -606,6 +606,17 @@ class SceneFile:
         return float(-value if comp == "rotation" else value * self.units.length)
 
 
+class _Row(NamedTuple):
+    """A row of a :class:`SceneBranch`'s table, before it is laid out in columns."""
+
+    arclength: float
+    p: float
+    observed: dict
+    energy: float
+    is_fold: int
+    error_estimate: float
+
+
 @dataclass(frozen=True)
 class SceneBranch:
     """A scene file's branch in the file's units.
@@ -633,30 +644,28 @@ class SceneBranch:
     def of(cls, scene_file: SceneFile, branch, n_folds) -> "SceneBranch":
         """The table of ``branch``, a branch of ``scene_file``'s scene."""
         sf, u = scene_file, scene_file.units
-        names = [ob.name for ob in sf.observables]
-        points = []
-        for i, pt in enumerate(branch.points):
-            obs = sf.observe(branch.system, pt.U, pt.p)
-            points.append((float(branch.arclength[i]), float(sf.parameter_value(pt.p)), obs,
-                           float(branch.energy[i]) * u.energy, 0, math.nan))
-        folds = []
-        for f in branch.folds:
-            obs = sf.observe(f.system, f.U, f.p)
-            i = f.index
-            arc = 0.5 * (branch.arclength[i] + branch.arclength[min(i + 1, len(points) - 1)])
-            folds.append((float(arc), float(sf.parameter_value(f.p)), obs, math.nan, 1,
-                          float(f.error_estimate) * abs(sf.scale)))
-        merged = sorted(points + folds, key=lambda row: (row[0], row[4]))
+        points = [_Row(float(branch.arclength[i]), float(sf.parameter_value(pt.p)),
+                       sf.observe(branch.system, pt.U, pt.p),
+                       float(branch.energy[i]) * u.energy, 0, math.nan)
+                  for i, pt in enumerate(branch.points)]
+        last = len(points) - 1
+        # a fold's row sits between the points that bracket it, as in Branch.rows
+        folds = [_Row(0.5 * float(branch.arclength[f.index]
+                                  + branch.arclength[min(f.index + 1, last)]),
+                      float(sf.parameter_value(f.p)), sf.observe(f.system, f.U, f.p),
+                      math.nan, 1, float(f.error_estimate) * abs(sf.scale))
+                 for f in branch.folds]
         label = f"[{u.parameter_label}]" if u.parameter_label else ""
         columns = (f"{sf.parameter}{label}", *[ob.column for ob in sf.observables],
                    f"energy[{u.modulus_label}*{u.length_label}^3]", "is_fold",
                    f"error_estimate{label}")
-        rows = tuple((p, *[obs[n] for n in names], e, k, err)
-                     for _, p, obs, e, k, err in merged)
-        fold_rows = tuple({"p": p, "error_estimate": err, **obs}
-                          for _, p, obs, _, _, err in folds)
-        _, p_last, obs_last, _, _, _ = points[-1]
-        return cls(scene_file, branch, columns, rows, fold_rows, {"p": p_last, **obs_last},
+        rows = tuple((r.p, *[r.observed[ob.name] for ob in sf.observables], r.energy,
+                      r.is_fold, r.error_estimate)
+                     for r in sorted(points + folds, key=lambda r: (r.arclength, r.is_fold)))
+        return cls(scene_file, branch, columns, rows,
+                   tuple({"p": r.p, "error_estimate": r.error_estimate, **r.observed}
+                         for r in folds),
+                   {"p": points[-1].p, **points[-1].observed},
                    _stop_reason(sf, branch, n_folds))
 
     def to_csv(self, path) -> None:
@@ -668,8 +677,8 @@ class SceneBranch:
         wr = csv.writer(buf, lineterminator="\n")
         wr.writerow(self.columns)
         for row in self.rows:
-            wr.writerow([int(v) if k == len(row) - 2 else repr(float(v))
-                         for k, v in enumerate(row)])
+            wr.writerow([int(v) if name == "is_fold" else repr(float(v))
+                         for name, v in zip(self.columns, row)])
         atomic_write_text(path, buf.getvalue())
 
     def summary(self) -> dict:
