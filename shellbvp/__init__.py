@@ -19,6 +19,8 @@ Solving and continuation
 Stability
     second_variation; beyond axisymmetry: modes (per harmonic n), modes_along (per point of
     a branch), first_instability, Instability, Modes
+Scene files (a shell as a TOML file, :mod:`shellbvp.scenefile`)
+    load_scene, SceneFile
 Results
     Equilibrium, Branch, Fold, MonitorPoint, FoldCurvePoint, SecondVariation, SnapResult,
     Onset, PressureResult, SnapCurve, ConvergenceError
@@ -50,6 +52,7 @@ from .results import Branch, Equilibrium, Fold
 from .geometry import (Cone, Cylinder, Ellipse, Meridian, Plate, Points, Sphere, Torus,
                        annulus, closed_sphere, cylinder, disc, spherical_cap)
 from .scene import End, ReferencePoint, Scene, cap, uniform_curvature
+from .scenefile import SceneFile, load_scene
 from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
 from .harmonics import Modes, modes
@@ -62,7 +65,7 @@ except PackageNotFoundError:        # a source tree that is not installed
 
 __all__ = [
     "energy_density", "energy_terms", "EnergyTerms", "MODELS", "MATERIALS",
-    "Scene", "End", "ReferencePoint", "cap", "uniform_curvature",
+    "Scene", "End", "ReferencePoint", "cap", "uniform_curvature", "load_scene", "SceneFile",
     "Meridian", "Plate", "Cylinder", "Cone", "Sphere", "Torus", "Ellipse", "Points",
     "spherical_cap", "closed_sphere", "disc", "annulus", "cylinder",
     "Chebyshev", "Shooting", "Collocation", "Ritz", "as_method",

@@ -1,11 +1,21 @@
-"""The ``shellbvp`` command line: snap curvature, continuation diagrams and sweeps of caps.
+"""The ``shellbvp`` command line: snap curvature, continuation diagrams and sweeps of caps,
+and scene files.
 
     shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
     shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv [--jobs 2] [--resume]
-    shellbvp stability --theta 0.5236 --h 0.01 --lam 1
+    shellbvp stability --theta 0.5236 --h 0.01 --lam 1 [--json]
+    shellbvp follow FILE [--csv OUT.csv] [--json]
+    shellbvp stability FILE [--json]
 
-Bad arguments exit with code 2 and one line on stderr; a solver failure exits with 1. A
+FILE is a scene file (TOML, :mod:`shellbvp.scenefile`), or the name of an example installed
+with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.examples`).
+``--json`` prints one JSON object instead of the text: ``follow`` ``{"folds": [{"p",
+"error_estimate", <observables>}], "last": {"p", <observables>}, "stop"}``, ``stability``
+``{"kind", "n", "p", "error_estimate"}``, in the file's units (null for what is undefined).
+
+Bad arguments or a bad scene file exit with code 2 and one line on stderr (a file's line
+starts with its key); a solver failure exits with 1. A
 sweep never stops on one cap: every cap gets a row (status ok / no snap / failed, and the
 reason), it prints a summary and exits 0 when every cap is ok or does not snap, 1 when some
 failed (the CSV complete all the same). Ctrl-C or SIGTERM stops it with one line and exit
@@ -17,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import json
 import math
 import signal
 import sys
@@ -119,10 +130,88 @@ def parser():
                         f"{CHUNK_SIZE})")
     w.add_argument("--resume", action="store_true",
                    help="continue an interrupted sweep from its journal (CSV.journal)")
-    st = sub.add_parser("stability", help="first instability of one cap beyond axisymmetry: "
-                                          "the snap or a bifurcation into n waves")
+    st = sub.add_parser("stability", help="first instability beyond axisymmetry of one cap or "
+                                          "of a scene file's branch: the fold or a "
+                                          "bifurcation into n waves")
+    st.add_argument("file", nargs="?", default=None, metavar="FILE",
+                    help="a scene file (TOML) or an installed example's name; without it, "
+                         "the cap of the options below")
     _common(st, method=False)
+    st.add_argument("--json", action="store_true", help="print one JSON object")
+    f = sub.add_parser("follow", help="continue a scene file from its parameter's 'from' to "
+                                      "'to', observing its named observables")
+    f.add_argument("file", metavar="FILE", help="a scene file (TOML) or an installed "
+                                                "example's name")
+    f.add_argument("--csv", default=None, help="write every point and fold to this CSV")
+    f.add_argument("--json", action="store_true", help="print one JSON object")
     return p
+
+
+#: the options of the built-in cap, which a scene file states itself
+CAP_OPTIONS = ("--theta", "--h", "--lam", "--model", "--material", "--nu")
+
+
+def _scene_file(p, a, argv):
+    """The scene file FILE names (a path, else an installed example), or exit 2 with one
+    line."""
+    from pathlib import Path
+
+    from .scenefile import example, load_scene
+
+    given = [o for o in CAP_OPTIONS for x in (argv if argv is not None else sys.argv[1:])
+             if x == o or x.startswith(o + "=")]
+    if given:
+        p.exit(2, f"shellbvp: error: {given[0]} sets the built-in cap; a scene file states "
+                  f"its own shell\n")
+    path = Path(a.file)
+    try:
+        if not path.exists() and path.suffix == "" and len(path.parts) == 1:
+            path = example(a.file)
+        return load_scene(path)
+    except ValueError as exc:
+        p.exit(2, f"shellbvp: error: {a.file}: {exc}\n")
+
+
+def _follow_file(sf, a) -> None:
+    run = sf.follow()
+    if a.csv:
+        run.to_csv(a.csv)
+    if a.json:
+        print(json.dumps(run.summary()))
+        return
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}{unit}")
+    for k, fold in enumerate(run.folds, 1):
+        print(f"fold {k}: " + _values(fold, sf))
+    print("last: " + _values(run.last, sf))
+    print(f"{len(run.branch.points)} points, {len(run.folds)} fold(s); stop: {run.stop}"
+          + (f" -> {a.csv}" if a.csv else ""))
+
+
+def _values(d: dict, sf) -> str:
+    """A row of a scene file's results: the parameter (with its error estimate) and the
+    observables, each with its unit."""
+    unit = sf.units.parameter_label
+    head = f"{sf.parameter} = {d['p']:.10g}"
+    if "error_estimate" in d:
+        head += f" +- {d['error_estimate']:.1e}"
+    head += f" {unit}" if unit else ""
+    units = {ob.name: ob.unit for ob in sf.observables}
+    return ", ".join([head] + [f"{n} = {d[n]:.8g} {units[n]}" for n in units])
+
+
+def _stability_file(sf, a) -> None:
+    found = sf.first_instability(tol=a.tol)
+    if a.json:
+        print(json.dumps(found.summary()))
+        return
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    what = {"fold": "the axisymmetric fold",
+            "bifurcation": f"a bifurcation into n = {found.n} circumferential waves",
+            "none": f"none up to {sf.parameter} = {found.p:.10g}{unit}"}[found.kind]
+    print(f"{sf.title or sf.source}: first instability: {what}" + (
+        f" at {sf.parameter} = {found.p:.10g}{unit} +- {found.error_estimate:.1e}"
+        if found.kind != "none" else ""))
 
 
 def main(argv=None) -> int:
@@ -134,11 +223,21 @@ def main(argv=None) -> int:
 
     use_persistent_cache(default=True)   # a later command starts in seconds
 
+    if hasattr(a, "tol") and not (0 < a.tol < 1):
+        p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
+    if getattr(a, "file", None) is not None:
+        sf = _scene_file(p, a, argv)
+        try:
+            (_follow_file if a.command == "follow" else _stability_file)(sf, a)
+        except ValueError as exc:
+            p.exit(2, f"shellbvp: error: {a.file}: {exc}\n")
+        except ConvergenceError as exc:
+            p.exit(1, f"shellbvp: solver failure: {exc}\n")
+        return 0
+
     opts = dict(model=a.model, material=a.material, nu=a.nu)
     if a.command != "stability":
         opts["method"] = a.method
-    if not (0 < a.tol < 1):
-        p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
     try:
         if a.command != "sweep":
             ce.scene(a.theta, a.h, a.lam, model=a.model, material=a.material, nu=a.nu)
@@ -156,6 +255,13 @@ def main(argv=None) -> int:
                 print("no snap: the cap everts without a fold (kappa_s undefined)")
         elif a.command == "stability":
             r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, **opts)
+            if a.json:
+                from .scenefile import SceneInstability
+
+                print(json.dumps(SceneInstability(
+                    r.kind, None if r.kind == "none" else int(r.n), float(r.p),
+                    float(r.error_estimate)).summary()))
+                return 0
             print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, {_material(a)}, "
                   f"T = Theta sqrt(R0/h0) = {a.theta / math.sqrt(a.h):.4g}")
             what = {"fold": "the axisymmetric snap (fold)",
