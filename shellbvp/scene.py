@@ -213,8 +213,9 @@ class Scene:
         monitor: the observable that continuation follows and that a branch reports as
             ``w``: ``"uz"``, ``"ur"`` or ``"rotation"`` of an end, written
             ``"uz(second)"``, or the relative axial displacement ``"uz(second)-uz(first)"``
-            (the default: the end that does not fix z relative to the one that does,
-            :attr:`monitor_terms`).
+            (the default: the axial displacement of the end that does not fix z relative
+            to the one that does; where both fix z, the radial displacement or rotation of
+            an end free to make it; :attr:`monitor_terms`).
     """
 
     geometry: Meridian
@@ -375,6 +376,14 @@ class Scene:
                 return ((1.0, "z", 1), (-1.0, "z", 0))
             if fixed == [False, True]:
                 return ((1.0, "z", 0), (-1.0, "z", 1))
+            # both ends hold z: the radial displacement of an end that leaves r free, else
+            # the rotation of one that leaves theta free (a clamped-clamped shell has no end
+            # that moves: give a monitor, or observe an interior point in a scene file)
+            for comp, holds in (("r", ("clamped", "hinged", "pole")),
+                                ("theta", ("clamped", "symmetry", "pole"))):
+                for end in (1, 0):
+                    if self.ends[end].kind not in holds:
+                        return ((1.0, comp, end),)
             return ((1.0, "z", 1), (-1.0, "z", 0))
         return _parse_monitor(self.monitor)
 
