@@ -101,11 +101,9 @@ def _anisotropic_pole(scene, piece, s) -> bool:
     """Whether the target curvature is anisotropic at a pole (kb1 != kb2 at its offset point
     s for some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A
     (module docstring), which costs third derivatives of W in the compiled end rows."""
-    for p in APEX_PROBES:
-        F = [float(v) for v in scene.field_values(piece, s, p)]
-        if F[2] != F[3] and all(math.isfinite(v) for v in F):
-            return True
-    return False
+    probes = np.asarray(APEX_PROBES)
+    F = np.stack(scene.field_values(piece, np.full(probes.shape, float(s)), probes))
+    return bool(np.any((F[2] != F[3]) & np.isfinite(F).all(axis=0)))
 
 
 class ShellBVP(Derivatives, MeridianStates):

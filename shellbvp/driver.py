@@ -262,6 +262,9 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
     """Follow the branch from the undeformed state at p0 until w (R0) is first reached, and
     solve there with w prescribed and the parameter unknown.
 
+    The monitor is a displacement, zero in the undeformed state, so a negative w is reached
+    from above (e.g. a pole pushed down) and a positive one from below.
+
     Raises ValueError for a non-finite w and ConvergenceError if the branch does not reach w.
     """
     if not math.isfinite(w):
@@ -269,10 +272,12 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
     bvp = _shell_bvp(scene, eps)
     system = _continuation_method(method).discretise(bvp)
     target = w / bvp.scale
+    sign = 1.0 if target >= 0 else -1.0
+    stop = (-math.inf, target) if sign > 0 else (target, math.inf)
     pts, _ = pseudo_arclength(system, system.from_profile(bvp.reference), float(p0),
                               options=options or ContinuationOptions.to_first_fold(),
-                              monitor_stop=(-math.inf, target))
-    if pts[-1].monitor < target:
+                              monitor_stop=stop)
+    if sign * (pts[-1].monitor - target) < 0:
         raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
                                f"{pts[-1].monitor * bvp.scale:.6g})")
     q = min(pts[-2:], key=lambda q: abs(q.monitor - target))

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Callable
 
 import numpy as np
@@ -1031,10 +1031,15 @@ class Meridian:
         if which not in ("first", "second"):
             raise ValueError(f"Meridian.at_end: which must be 'first' or 'second', got "
                              f"{which!r}")
-        i = 0 if which == "first" else len(self.segments) - 1
-        u = 0.0 if which == "first" else self._layout.lengths[-1]
-        r, z, theta, _ = self.segments[i].evaluate(u)
-        return float(r), float(z), float(theta) + self._layout.offsets[i]
+        return self._end_points[0 if which == "first" else 1]
+
+    @cached_property
+    def _end_points(self) -> tuple:
+        out = []
+        for i, u in ((0, 0.0), (len(self.segments) - 1, self._layout.lengths[-1])):
+            r, z, theta, _ = self.segments[i].evaluate(u)
+            out.append((float(r), float(z), float(theta) + self._layout.offsets[i]))
+        return tuple(out)
 
     def pieces(self, extra_cuts=()) -> tuple[tuple[float, float, int], ...]:
         """(a, b, segment index) of the pieces [a, b] that cover [0, L], cut at every joint

@@ -11,8 +11,10 @@ u cos, v sin, w cos are u = U_r cos(theta) - U_z sin(theta), v = U_w,
 w = U_r sin(theta) + U_z cos(theta), a pointwise rotation in the meridional plane). The energy
 is E = int int W(a, b; abar, bbar) dA_target + P V, W the reduced energy of general forms
 (:mod:`shellbvp.forms`), a_ij = x_i . x_j, b_ij = x_ij . N, and for a pressure P
-(follower load) V = (1/3) int int x . (x_s x x_omega) ds domega, which differs from the
-axisymmetric solve's volume by a constant where the edge is fixed.
+(follower load) V = (1/3) int int x . (x_s x x_omega) ds domega plus, at an end that moves in
+its own plane (roller, symmetry), the flat lid that closes the rim (:func:`_lid_stiffness`):
+the volume of the axisymmetric solve, whose variation is the follower load. An end free to
+leave its plane has no such lid, and a pressure there is refused (no potential).
 
 Decoupling. The density depends on (x, x_s, x_omega, x_ss, x_somega, x_omegaomega) at a point,
 and is invariant under rotations about the axis, so its Hessian H in these 18 numbers, written
@@ -254,6 +256,7 @@ class _Base:
     E: tuple                      # (E0, E1, E2) per piece: (m, degree + 1) basis derivatives
     kinds: tuple                  # the kinds of the two ends (shellbvp.scene.End)
     G: np.ndarray                 # (P, m, 18): the density's gradient (first variation)
+    pressure: float               # the follower pressure P at this equilibrium
 
 
 @lru_cache(maxsize=32)
@@ -350,7 +353,8 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
                                "(a quadrature point without a valid state)")
     return _Base(tuple(bounds), np.stack(S), np.stack(WQ), np.stack(AREA), np.stack(TH),
                  np.stack(R), np.stack(Zs), np.stack(LAM), H.reshape(P, m, 18, 18), ends,
-                 degree, tuple(Es), tuple(e.kind for e in sc.ends), G.reshape(P, m, 18))
+                 degree, tuple(Es), tuple(e.kind for e in sc.ends), G.reshape(P, m, 18),
+                 pressure)
 
 
 # --- assembly -------------------------------------------------------------------------------
@@ -597,6 +601,32 @@ def _stiffness(parts: dict, n: int) -> np.ndarray:
     return (K + K.T) / 2 * (2 * math.pi if n == 0 else math.pi)
 
 
+def _lid_stiffness(base: _Base, n: int) -> np.ndarray | float:
+    """The pressure's stiffness from the lids that close an open shell at its moving ends.
+
+    The density's load term (1/3) x . (x_s x x_o) integrates to the volume of the cone from
+    the origin to the surface; the closed volume adds, at each end that is not a pole, the
+    flat lid in the end's plane z_e (held: roller, symmetry; a clamped or hinged end does not
+    move), (1/3) sigma_e z_e A_e with sigma = +1 at the first end, -1 at the second, and A_e
+    the area the rim encloses. With the rim at r_e + U_r cos(n omega), U_w sin(n omega),
+    A_e = pi r_e^2 + (pi / 2)(U_r^2 + U_w^2 + 2 n U_r U_w) exactly (n >= 1; at n = 0 the
+    twist U_w adds pi U_w^2), so the term's Hessian is P sigma_e z_e / 3 [[1, n], [n, 1]] in
+    (U_r, U_w), times the omega weight. Every rigid motion then leaves the closed volume,
+    so it costs no energy, and the variation of the closed volume is the follower load on
+    the shell alone (the lid moves in its own plane)."""
+    if base.pressure == 0.0:
+        return 0.0
+    P = base.s.shape[0]
+    K = 0.0
+    for sigma, (i, side), kind in zip((1.0, -1.0), ((0, "a"), (P - 1, "b")), base.kinds):
+        if kind not in ("roller", "symmetry"):
+            continue
+        z = base.ends[(i, side)][3]
+        rows = np.array([_end_rows(base, i, side, 0, c) for c in (0, 1)])
+        K = K + rows.T @ (sigma * z / 3.0 * np.array([[1.0, n], [n, 1.0]])) @ rows
+    return base.pressure * K * (2 * math.pi if n == 0 else math.pi)
+
+
 def _spectrum(base: _Base, D, parts, space: _Space, n: int, count: int,
               M=None, terms=()) -> HarmonicSpectrum:
     from scipy.linalg import eigh
@@ -604,6 +634,7 @@ def _spectrum(base: _Base, D, parts, space: _Space, n: int, count: int,
     K = _stiffness(parts, n) if parts is not None else _stiffness_direct(base, D, n)
     if terms:
         K = K + _interface_stiffness(base, terms, n)
+    K = K + _lid_stiffness(base, n)
     rigid = tuple((name, float(y @ K @ y / (y @ M @ y))) for name, y in space.rigid)
     Z = space.Z
     count = min(count, Z.shape[1])
@@ -668,6 +699,14 @@ def modes(eq: Equilibrium, n=range(0, 21), *, count: int = 3, degree: int | None
     degree = DEGREE if degree is None else degree
     if not (isinstance(degree, (int, np.integer)) and 8 <= degree <= 160):
         raise ValueError(f"degree must be an integer in [8, 160], got {degree!r}")
+    sc = eq.scene
+    free = [name for name, end in zip(("first", "second"), sc.ends) if end.kind == "free"]
+    if sc.pressure is not None and free:
+        raise ValueError(f"a follower pressure on a shell whose {free[0]} end is free has no "
+                         "potential beyond axisymmetry (no lid closes a rim that leaves its "
+                         "plane), so its second variation is not an energy's; modes need "
+                         "every end a pole or in a fixed plane (clamped, hinged, roller, "
+                         "symmetry)")
     from threadpoolctl import threadpool_limits
 
     base = _base(eq, int(degree))

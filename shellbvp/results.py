@@ -42,9 +42,9 @@ class Equilibrium:
         M, F_r, F_z: meridional moment and force multipliers (see the module docstring).
         N1, N2: the membrane stress resultants, meridional and hoop, per unit deformed
             length and per mu* h: the derivatives of the energy per unit reference area in
-            the actual stretches, t W_lam1 / lam2 and t W_lam2 / lam1 (for a sphere of
-            radius R under a small pressure P, N1 = N2 = P R / 2; t the thickness
-            profile).
+            the actual stretches, t W_lam1 / lam2 and t W_lam2 / lam1, positive in tension
+            (for a closed sphere of radius R traced from its top pole, a small pressure P
+            pushes along -n, inward: N1 = N2 = -P R / 2; t the thickness profile).
         energy, stretching_energy, bending_energy: E / (mu* h0 R0^2) = 2 pi int W dA_target,
             split into the w_s and h^2/12 w_b parts, plus ``load_potential``.
         load_potential: the pressure's potential P V (V the volume between the surface and

@@ -469,9 +469,10 @@ class Scene:
         return ([6] if self.thickness is not None else []) + \
             ([7] if self.through_thickness is not None else [])
 
-    def check_fields(self, out, piece, p):
+    def check_fields(self, out, piece, p, *, interior=False):
         """Raise a named ValueError unless the fields F (:data:`shellbvp.kinematics.FIELDS`
-        along the first axis) are admissible."""
+        along the first axis) are admissible; ``interior``: F at interior points only (the
+        energy method's quadrature), where a thickness vanishing at an end is allowed."""
         from .kinematics import FIELDS
 
         F = np.asarray(out, dtype=float)
@@ -483,6 +484,9 @@ class Scene:
                                  f"{self.parameter} = {p!r})")
         if np.any(F[0] <= 0) or np.any(F[1] <= 0):
             raise ValueError("stimulus fields g1, g2 must be > 0")
+        if len(F) > 6 and np.any(F[6] <= 0) and interior:
+            raise ValueError(f"the thickness profile must be > 0 inside the shell (piece "
+                             f"{piece}, {self.parameter} = {p!r})")
         if len(F) > 6 and np.any(F[6] <= 0):
             raise ValueError(f"the thickness profile must be > 0 along the meridian (piece "
                              f"{piece}): the first-order form divides by the bending "

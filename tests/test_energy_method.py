@@ -196,3 +196,22 @@ def test_observed_convergence_at_a_cone_apex():
     assert dw[1] < 0.2 * dw[0] and dw[2] < 1e-10
     assert de[2] < 1e-9
     assert np.all(np.diff(e_apex) < -1e-3)       # the apex strain keeps moving
+
+
+def test_inadmissible_fields_are_named_by_the_energy_method_too():
+    """The energy method checks the fields at its quadrature points as the first-order form
+    does at its nodes: a metric stimulus on a scene that says it has none, and a thickness
+    profile that changes sign inside the shell, are named errors, not an energy of
+    nothing."""
+    from shellbvp.geometry import disc
+
+    def scene(**kw):
+        return shellbvp.Scene(disc(1.0), 0.01, material="koiter", nu=0.3,
+                              ends=("pole", "clamped"), **kw)
+
+    metric = scene(fields=lambda x, p: (1 + p * x.s, 1 + 0 * x.s, x.k1, x.k2))
+    with pytest.raises(ValueError, match="metric=False"):
+        shellbvp.solve(metric, 0.1, method="energy")
+    thin = scene(thickness=lambda x: 0.5 - x.s, pressure=lambda p: p)
+    with pytest.raises(ValueError, match="thickness profile must be > 0 inside the shell"):
+        shellbvp.solve(thin, 1e-6, method="energy")

@@ -141,3 +141,57 @@ def test_budding_bifurcation_converges_with_the_degree():
     b = budding.first_instability(1.0, 1.0, degree=32)
     assert a.kind == b.kind == "bifurcation" and a.n == b.n
     assert abs(a.p - b.p) <= a.error_estimate + b.error_estimate
+
+
+@lru_cache(maxsize=None)
+def _sphere_spectra(ends, centre_z=0.0):
+    """Modes n = 0..3 (degree 48) of a pressurised Koiter sphere (R = 1, h = 0.01): the
+    closed sphere (two poles) or its upper half with a symmetry end at the equator, the
+    sphere's centre at ``centre_z``."""
+    from shellbvp.geometry import Meridian, Sphere
+
+    angle = (0.0, math.pi) if ends == ("pole", "pole") else (0.0, math.pi / 2)
+    geo = Meridian((Sphere(1.0, centre_z=centre_z, angle=angle),))
+    sc = shellbvp.Scene(geo, 0.01, material="koiter", nu=0.3, ends=ends,
+                        pressure=lambda p: p)
+    return H.modes(shellbvp.solve(sc, 0.02), n=range(4), count=3, degree=48)
+
+
+def test_pressurised_sphere_spectrum_is_degenerate_and_the_half_sphere_shares_it():
+    """A pressurised sphere is rotation invariant, so the eigenvalues of its second variation
+    depend on the spherical-harmonic degree only: every level of the closed sphere recurs
+    for every n it allows (exact symmetry). The half sphere with a mirror end at the equator
+    has the closed sphere's modes that are symmetric about it: each of its eigenvalues is
+    one of the closed sphere's. Its rim moves radially in the mirror plane, where the
+    pressure's potential needs the flat lid that closes it: without it the spectrum
+    depended on where the origin is (centre_z 0 against 0.7: 7e-3 on the rigid rotation's
+    quotient, 4e-3 on eigenvalues); with it, rigid motions cost nothing and the origin
+    drops out."""
+    closed = _sphere_spectra(("pole", "pole"))
+    levels = np.concatenate([sp.eigenvalues for sp in closed.spectra])
+    for lo in (closed.spectra[0].eigenvalues[0], closed.spectra[0].eigenvalues[1]):
+        for sp in closed.spectra[:3]:
+            assert np.min(np.abs(sp.eigenvalues - lo)) < 1e-8 * lo
+    for centre_z in (0.0, 0.7):
+        half = _sphere_spectra(("pole", "symmetry"), centre_z)
+        for sp in half.spectra:
+            for mu in sp.eigenvalues[:2]:
+                assert np.min(np.abs(levels - mu)) < 1e-8 * mu, (sp.n, mu)
+            for name, quotient in sp.rigid:
+                assert abs(quotient) < 1e-10 * sp.eigenvalues[0], (sp.n, name, quotient)
+    a, b = (_sphere_spectra(("pole", "symmetry"), cz) for cz in (0.0, 0.7))
+    for sa, sb in zip(a.spectra, b.spectra):
+        # the two equilibria are solved apart, each to ~1e-10
+        np.testing.assert_allclose(sa.eigenvalues, sb.eigenvalues, rtol=1e-8)
+
+
+def test_pressure_with_a_free_end_is_refused_beyond_axisymmetry():
+    """A rim that leaves its plane has no lid that closes it: the follower pressure has no
+    potential there, and modes says so rather than return a second variation of nothing."""
+    from shellbvp.geometry import annulus
+
+    sc = shellbvp.Scene(annulus(0.5, 1.0), 0.01, material="koiter", nu=0.3,
+                        ends=("free", "clamped"), pressure=lambda p: p)
+    eq = shellbvp.solve(sc, 1e-6)
+    with pytest.raises(ValueError, match="first end is free"):
+        H.modes(eq, n=[2])

@@ -654,6 +654,11 @@ class RitzSystem:
         _, _, _, _, _, BE, BC = _element(self.q, self.nq)
         xl = self.local(U)
         F, dF, P, dP = (np.asarray(a) for a in self._fields(self.sq, float(p), self._c))
+        if not self.scene.fields_admissible(F):
+            # name what fails, and on which piece (elements are counted piece by piece)
+            bad = next(e for e in range(F.shape[0]) if not self.scene.fields_admissible(F[e]))
+            piece = int(np.searchsorted(np.cumsum(self.pieces), bad, side="right"))
+            self.scene.check_fields(F[bad].T, piece, p, interior=True)
         V = np.einsum("gkn,en->egk", BE, xl)
         Uc = np.einsum("gkn,en->egk", BC, xl)
         V[..., 0] += self.element_offset[:, None]
