@@ -15,6 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .geometry import AXIS_TOL
+
 __all__ = ["ReferencePoint", "call_fields", "point_fields", "reference_point",
            "interface_jumps"]
 
@@ -66,7 +68,9 @@ def reference_point(scene, piece: int, s, xp=np) -> ReferencePoint:
     seg = scene.geometry.segments[k]
     r, z, theta, k1 = seg.evaluate(s - scene.geometry.segment_starts[k], xp)
     theta = theta + scene.geometry.theta_offsets[k]      # theta0 continuous but at kinks
-    on_axis = r == 0
+    # on the axis to the meridian's tolerance (a pole's r0 is round-off, not 0, where the
+    # segment's parametrisation ends at an angle such as pi): the pole limit k2 = k1
+    on_axis = r <= AXIS_TOL * scene.geometry.size
     k2 = xp.where(on_axis, k1, -xp.sin(theta) / xp.where(on_axis, 1.0, r))
     return ReferencePoint(piece, s, r, z, theta, k1, k2)
 

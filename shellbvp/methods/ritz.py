@@ -402,6 +402,8 @@ class RitzSystem:
         P = self.P = sc.pieces
         given = None if method.layers is None else int(method.layers)
         core = None if method.core is None else float(method.core)
+        #: the apex core as given (thicknesses, degree), for :meth:`describe`
+        self.core = (core, method.core_degree)
         if given is None and core is None:
             # the default layers: from the uniform elements, each grading times the next,
             # down to APEX_CORE h
@@ -657,8 +659,7 @@ class RitzSystem:
         if not self.scene.fields_admissible(F):
             # name what fails, and on which piece (elements are counted piece by piece)
             bad = next(e for e in range(F.shape[0]) if not self.scene.fields_admissible(F[e]))
-            piece = int(np.searchsorted(np.cumsum(self.pieces), bad, side="right"))
-            self.scene.check_fields(F[bad].T, piece, p, interior=True)
+            self.scene.check_fields(F[bad].T, int(self.element_piece[bad]), p, interior=True)
         V = np.einsum("gkn,en->egk", BE, xl)
         Uc = np.einsum("gkn,en->egk", BC, xl)
         V[..., 0] += self.element_offset[:, None]
@@ -1048,7 +1049,7 @@ class RitzSystem:
         """The element nodes, each once, without the poles (where lam2 and k2 are limits),
         an interface's node belonging to the next piece."""
         s = np.concatenate([self.sn[:, :-1].ravel(), [self.sn[-1, -1]]])
-        return s[1:-1] if self.bvp.poles[1] else s[1:]
+        return s[int(self.bvp.poles[0]):len(s) - int(self.bvp.poles[1])]
 
     def nodes(self, U, p):
         t = np.linspace(0.0, 1.0, 2 * self.q + 1)
@@ -1096,8 +1097,12 @@ class RitzSystem:
     def describe(self) -> dict:
         """The resolution: degree per element, elements in all (the pole layers included)
         and the pole layers."""
-        return {"method": "energy", "degree": self.q, "elements": self.E,
-                "layers": self.layers}
+        out = {"method": "energy", "degree": self.q, "elements": self.E,
+               "layers": self.layers}
+        if self.core[0] is not None and any(self.singular):
+            out["core"] = f"{self.core[0]:g} h"
+            out["core_degree"] = self.q if self.core[1] is None else self.core[1]
+        return out
 
     # --- what the energy gives beyond the equations ---------------------------------------
     def energies(self, U, p) -> tuple:
