@@ -67,6 +67,14 @@ def method_note(b) -> str:
     return f"{b.stats['method']} method, paper's gammas (0.63/1.26)"
 
 
+def shade_core(ax):
+    """Hatch s < 2 h0: the apex core the reduced 2D energy does not resolve (budding's
+    module docstring), whose strains depend on how it is treated."""
+    ax.axvspan(0.0, 2 * bd.H, facecolor="none", edgecolor="0.4", hatch="///", lw=0.0,
+               label=r"apex core ($s < 2h_0$)")
+    ax.legend(fontsize=8)
+
+
 def title_of(eta_a, eta_b, kbar, eq, reached, end=None):
     t = rf"$\eta_a$ = {eta_a:g}, $\eta_b$ = {eta_b:g}, $\bar\kappa$ = {kbar:g}"
     if not reached:
@@ -94,6 +102,8 @@ def panels(cases, stem, argv=None, doc=""):
         axes[0, k].set_title(f"({'abc'[k]}) " + title_of(ea, eb, kbar, eq, reached, b.p[-1])
                              + f"\n{method_note(b)}", fontsize=8)
         axes[1, k].set_title(f"({'def'[k]}) strains", fontsize=9)
+        if "core" in b.stats:
+            shade_core(axes[1, k])
     write_csv(a.out / f"{stem}.csv", HEADER, rows)
     finish(fig, a.out, stem)
     print(f"total {time.perf_counter() - t0:.1f} s")

@@ -30,6 +30,30 @@ target curvature, eta_b != 1) or a metric stimulus (whose inner inversion folds 
 energy stops being elliptic); the spectral method, faster, for the curvature-only isotropic
 case, where both end at the same kbar (:func:`method_for`; ``Branch.stats["method"]``).
 
+The apex core (a modelling choice). At a singular apex the target is a cone (g1 != g2 on
+the axis: an excess angle for eta_a < 1, a deficit for eta_a > 1) or its curvatures differ
+(eta_b != 1); the reduced 2D energy, an expansion in the thickness, then has a solution
+whose curvatures grow without bound toward the apex and says nothing inside a disc of
+radius ~ h0 there (h|k| >~ 1). A discretisation that resolves that disc finds its energy
+non-elliptic there and stops at a kbar that moves with the resolution, inside a region far
+smaller than the thickness. :func:`method_for` does not resolve it: the innermost element
+spans ``CORE`` thicknesses, and where the target is a cone it is of degree ``CORE_DEGREE``,
+which carries the cone's rotation across the core without its singular field (a core of
+degree 6 or more resolves it again and loses stability inside it: eta = (2, 1) at kbar
+118.6 on a mode at s = 0.08 h0). What this choice does to the result is measured, not
+assumed: ``figures/budding_table.py`` varies the core over 0.5-2 h0 and the degree over
+12-20 and reports the spread of w_apex, which is part of its error estimate; the strains
+beyond ~2 h0 of the apex do not depend on it.
+
+Stability. The energy method ends a branch where the smallest eigenvalue of its discrete
+Hessian at fixed kbar crosses zero (:func:`shellbvp.stability.stable_point`); the crossings
+that end the paper's cases are shown to converge under refinement (degree and core) in
+``figures/budding_table.py``. The Legendre condition of the reduced energy is reported, not
+used as a stop: :func:`diagnose` gives its minimum inside the apex core (s < 2 h0) and
+beyond it. Past the crossings that end the anisotropic curvature-only cases the branch,
+followed without the check, turns back within ~1 in kbar (eta_b = 2: at 37.04; 0.5: 38.40),
+so that the paper's kbar is not on this branch.
+
 Where the branch cannot be continued, :func:`branch` stops at the last converged point and
 says why (``Branch.stop``); :func:`diagnose` reads the thin-shell validity and the
 ellipticity of the reduced energy along the branch, which tell a loss of the model's
@@ -115,16 +139,35 @@ _gammas = gammas
 #: the energy method's degree per element (its elements: two per piece, and the apex
 #: layers where the apex is singular)
 DEGREE = 16
+#: the innermost element at a singular apex, in thicknesses h0 (module docstring: the apex
+#: core), where the default grading's stop drifts with the resolution
+CORE = 1.0
+#: that element's degree where the target is a cone (a metric stimulus, eta_a not 0 or 1)
+CORE_DEGREE = 3
 
 
 def method_for(eta_a, eta_b, *, quick: bool = False):
     """The method that follows case (eta_a, eta_b) furthest correctly (module docstring):
-    :class:`shellbvp.Ritz` (degree 16, 12 with ``quick``) unless eta_a = 0 and eta_b = 1,
-    :class:`shellbvp.Chebyshev` (degree 32 per piece, 24 with ``quick``) there."""
+
+    * eta_a = 0, eta_b = 1 (regular apex, curvature only): :class:`shellbvp.Chebyshev`
+      (degree 32 per piece, 24 with ``quick``);
+    * a conical target (eta_a not 0 or 1): :class:`shellbvp.Ritz` with the apex core,
+      ``CORE`` h0 at degree ``CORE_DEGREE``;
+    * an anisotropic target curvature with eta_b > 1 (the Legendre condition fails first
+      near the apex): Ritz with a ``CORE`` h0 innermost element of the full degree;
+    * otherwise (a regular apex, or eta_b < 1, whose stop at the patch edge converges on
+      the default apex layers: kbar 37.48 / 37.45 / 37.43 at degree 12 / 16 / 20): Ritz.
+
+    Every Ritz at degree 16 (12 with ``quick``)."""
     scene(eta_a, eta_b)                  # checks the anisotropy ratios
     if eta_a == 0 and eta_b == 1:
         return Chebyshev(nodes=24 if quick else NODES)
-    return Ritz(degree=12 if quick else DEGREE)
+    degree = 12 if quick else DEGREE
+    if eta_a not in (0, 1):
+        return Ritz(degree=degree, core=CORE, core_degree=CORE_DEGREE)
+    if eta_b > 1:
+        return Ritz(degree=degree, core=CORE)
+    return Ritz(degree=degree)
 
 
 def _method(eta_a, eta_b, nodes, method):
@@ -198,6 +241,9 @@ class Diagnosis:
             s_legendre where.
         block: min over the meridian of the same for the (lam1, k1) block of the Hessian.
         pole: smallest eigenvalue of the whole scaled Hessian at the apex.
+        legendre_core, legendre_beyond: min of the Legendre condition within ``2 h0`` of
+            the apex (the core the reduced energy does not resolve, module docstring) and
+            beyond it.
     """
 
     kbar: np.ndarray
@@ -208,6 +254,8 @@ class Diagnosis:
     s_legendre: np.ndarray
     block: np.ndarray
     pole: np.ndarray
+    legendre_core: np.ndarray
+    legendre_beyond: np.ndarray
 
 
 def diagnose(b: shellbvp.Branch, every: int = 1) -> Diagnosis:
@@ -218,11 +266,14 @@ def diagnose(b: shellbvp.Branch, every: int = 1) -> Diagnosis:
         try:
             eq = b.equilibrium(i)
         except shellbvp.ConvergenceError:   # the state cannot be evaluated: say nan
-            rows.append((b.p[i], b.w[i]) + (math.nan,) * 6)
+            rows.append((b.p[i], b.w[i]) + (math.nan,) * 8)
             continue
         j = int(np.argmin(eq.legendre))
+        core = eq.s < 2 * H
         rows.append((eq.p, eq.w, *eq.thin_shell, eq.legendre[j], eq.s[j],
-                     eq.hessian_block.min(), eq.pole_hessian_min))
+                     eq.hessian_block.min(), eq.pole_hessian_min,
+                     eq.legendre[core].min() if core.any() else math.nan,
+                     eq.legendre[~core].min()))
     a = np.array(rows).T
     return Diagnosis(*a)
 
