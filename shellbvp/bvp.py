@@ -59,7 +59,7 @@ from .fields import interface_jumps
 from .kernels import kernels, monitor_and_gradient, untraceable
 from .meridian import MeridianStates
 from .nodal import Collocated, Hint, Nodal, carried_roots, flat_nodes
-from .scene import Scene
+from .scene import Scene, per_scene
 
 __all__ = ["ShellBVP", "Nodal", "Collocated", "POLE_OFFSET", "CHUNKS"]
 
@@ -100,6 +100,7 @@ APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 ANISOTROPY_TOL = 1e-6
 
 
+@per_scene
 def _anisotropic_pole(scene, piece, s) -> bool:
     """Whether the target curvature is anisotropic at a pole (kb1 != kb2 at its offset point
     s for some probed parameter value): then the pole condition k1 = k2 becomes k1 - k2 = A

@@ -18,6 +18,7 @@ import numpy as np
 from . import kinematics as K
 from .compiled import point_functions, solve_2x2
 from .fields import point_fields
+from .scene import per_scene
 from .jaxsetup import jax
 from .packed import Packed
 from .fields import call_fields
@@ -128,6 +129,7 @@ def _end_loads(end):
     return tuple(getattr(end, n) for n in ("axial", "radial", "moment"))
 
 
+@per_scene
 def kernel_key(scene, log_poles) -> tuple:
     """Everything the traced code of a scene depends on (so that scenes equal in it share
     programs): the model, the functions of its fields and loads (by identity), the segments

@@ -110,6 +110,23 @@ def uniform_curvature(x, kappa):
     return one, one, x.k1 + kappa, x.k2 + kappa
 
 
+def per_scene(fn):
+    """``fn(scene, *args)`` cached by value: a :class:`Scene` is an immutable value, so
+    equal scenes (a cap built anew for every call of a sweep's repeated point, say) share
+    what is derived from them. Hashable arguments only; a scene holding an unhashable field
+    value is computed afresh."""
+    cached = lru_cache(maxsize=256)(fn)
+
+    def wrapper(scene, *args):
+        try:
+            return cached(scene, *args)
+        except TypeError:                   # unhashable: no cache
+            return fn(scene, *args)
+
+    wrapper.__doc__, wrapper.__name__, wrapper.__wrapped__ = fn.__doc__, fn.__name__, fn
+    return wrapper
+
+
 def _constant(value):
     """A load that is the same at every parameter value (a number given where a function of
     p is expected)."""
