@@ -18,7 +18,7 @@ import numpy as np
 from . import kinematics as K
 from .compiled import point_functions, solve_2x2
 from .fields import point_fields
-from .scene import per_scene
+from .scene import LOAD_NAMES, per_scene
 from .jaxsetup import jax
 from .packed import Packed
 from .fields import call_fields
@@ -126,7 +126,7 @@ def disk_key(functions, *parts) -> str | None:
 
 
 def _end_loads(end):
-    return tuple(getattr(end, n) for n in ("axial", "radial", "moment"))
+    return end.loads
 
 
 @per_scene
@@ -272,15 +272,17 @@ def _build(scene, log_poles, key) -> Kernels:
                                                       (piece, s, y, q_hints))
         return X, F, ok, gw, Hw, q_end
 
-    def pole_rows(end, y, q, F, lam, h, z_ref, fns=pf):
+    def pole_rows(end, y, q, F, lam, h, z_ref, p, fns=pf):
         # regularity of the deformed surface at a pole: equal actual stretches
         # g1 lam1 = g2 lam2 (r ~ g1 lam1 r0 and lam2 = r / (g2 r0)) and k1 = k2; the third
-        # row holds the pole's height where it is pinned, else asks for no point force
+        # row holds the pole's height where it is pinned, else asks for the given point
+        # force (F(second) = Q, F(first) = -Q, Q the force per radian)
         X = fns.X(y, q, F, h)
         if pinned == end:
             third = end_value(y, "z", True, theta_pole[end], jnp) - z_ref
-        else:
-            third = y[5]
+        else:                          # the point force, per radian: force / (2 pi)
+            Q = natural(end, "force", p, 1.0 / (2.0 * np.pi))
+            third = y[5] if isinstance(Q, float) and Q == 0.0 else y[5] - 12.0 / (h * h) * Q
         dk = jnp.zeros(())
         if log_poles[end]:
             # anisotropic target curvature at the pole: the finite-energy local solution has
@@ -297,7 +299,7 @@ def _build(scene, log_poles, key) -> Kernels:
         # a given line load per unit reference length, as the conjugate force per radian
         # scaled like the unknowns (m, f = 12/h^2 M, F); the natural condition is
         # F(second) = Q and F(first) = -Q for a load Q doing work on the end
-        load = loads[end][("axial", "radial", "moment").index(name)]
+        load = loads[end][LOAD_NAMES.index(name)]
         if load is None:
             return 0.0
         Q = load(p) * r_ref
@@ -340,7 +342,7 @@ def _build(scene, log_poles, key) -> Kernels:
         q = (q_root + dq[:, :6] @ (y - jax.lax.stop_gradient(y))
              + dq[:, 6] * (p - jax.lax.stop_gradient(p)))
         z_ref = pole_reference(end, length)["z"]
-        return pole_rows(end, y, q, F, lam, h, z_ref), F
+        return pole_rows(end, y, q, F, lam, h, z_ref, p), F
 
     def boundary_jac(ya, yb, p, s_a, s_b, length, lam, h, c, roots=None):
         # each end's rows depend on its own state (and p) only: differentiate each in its own
@@ -432,7 +434,7 @@ def _build(scene, log_poles, key) -> Kernels:
                     F = fields_at(end_piece[end], s_end, p, c)
                     q = pf.q_linear(y, F, lam_, h_, roots[end])
                     out.append(pole_rows(end, y, q, F, lam_, h_,
-                                         pole_reference(end, len_)["z"]))
+                                         pole_reference(end, len_)["z"], p))
                 else:
                     out.append(edge_rows(end, y, p, s_end, h_))
             return jnp.concatenate(out)
@@ -457,8 +459,10 @@ def _build(scene, log_poles, key) -> Kernels:
             for end in (0, 1):
                 if poles[end]:
                     z_ref = pole_reference(end, length)["z"]
+                    # (a point force enters at fixed p here: its second derivative in p,
+                    # nonzero only for a force nonlinear in p, is left out)
                     pole = pole + wb[3 * end:3 * end + 3] @ pole_rows(end, y_, q_, F_, lam, h,
-                                                                      z_ref, fns)
+                                                                      z_ref, p, fns)
             return jnp.stack(parts + [pole])
 
         return pf.curvature(phi, (y, p, s), (v, dp, jnp.zeros_like(s)), lam, h, q, dq,

@@ -76,8 +76,8 @@ USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parame
 #: the kinds of end: what each fixes of (r, z, theta) and which of its conjugate forces
 #: (F_r, F_z, M) are given (the rest follow); a pole fixes r = 0 by its regularity
 END_KINDS = {
-    "pole": ("an end on the axis: regular there (equal stretches and curvatures), no point "
-             "force"),
+    "pole": ("an end on the axis: regular there (equal stretches and curvatures), the point "
+             "force given (default zero)"),
     "free": "nothing fixed; the forces and the moment given (line loads, default zero)",
     "clamped": "r, z and theta fixed at the reference's values",
     "hinged": "r and z fixed; the moment given",
@@ -85,10 +85,12 @@ END_KINDS = {
     "symmetry": ("a mirror plane normal to the axis: theta fixed (the tangent parallel to "
                  "the axis), no shear (F_r = 0), the axial force given"),
 }
+#: the loads an end may carry, in the order of :attr:`End.loads`
+LOAD_NAMES = ("axial", "radial", "moment", "force")
 #: the ends that fix the axial position z
 FIXES_Z = ("clamped", "hinged", "roller")
 #: the line loads each kind of end accepts (where it is free to move)
-LOADS_OF = {"pole": (), "free": ("axial", "radial", "moment"), "clamped": (),
+LOADS_OF = {"pole": ("force",), "free": ("axial", "radial", "moment"), "clamped": (),
             "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",)}
 
 
@@ -148,16 +150,20 @@ class End:
         moment: line moment per unit length of the reference edge (per mu* h R), positive
             where it turns the meridian's tangent counterclockwise in the (r, z) plane
             (from +r toward +z); a function of p, a number or None.
+        force: at a pole, the axial point force there (the total, per mu* h R, along +z),
+            a function of p, a number or None (zero). A dead load: its potential is
+            -force z(pole).
     """
 
     kind: str
     axial: Callable | float | None = None
     radial: Callable | float | None = None
     moment: Callable | float | None = None
+    force: Callable | float | None = None
 
     def __post_init__(self):
         checks.check_choice("end kind", self.kind, tuple(END_KINDS))
-        for name in ("axial", "radial", "moment"):
+        for name in LOAD_NAMES:
             value = getattr(self, name)
             if value is None:
                 continue
@@ -178,7 +184,12 @@ class End:
 
     @property
     def loaded(self) -> bool:
-        return any(getattr(self, n) is not None for n in ("axial", "radial", "moment"))
+        return any(getattr(self, n) is not None for n in LOAD_NAMES)
+
+    @property
+    def loads(self) -> tuple:
+        """The load functions in :data:`LOAD_NAMES` order (None where not given)."""
+        return tuple(getattr(self, n) for n in LOAD_NAMES)
 
 
 def _as_end(value, which) -> End:
@@ -351,6 +362,11 @@ class Scene:
                         f"there (a mirror plane normal to the axis); the {which} end's "
                         f"tangent makes {math.degrees(theta0):.6g} degrees with the plane")
         object.__setattr__(self, "ends", ends)
+        if not any(e.fixes_z for e in ends) and ends[0].force is not None:
+            raise ValueError("the first end's point force would be taken by the reaction that "
+                             "holds the first end's z (no end fixes the axial position, so "
+                             "the first is held): put the force on the second end, where the "
+                             "held first end balances it")
 
     # --- derived data ---------------------------------------------------------------------
     @property

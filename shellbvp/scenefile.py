@@ -27,6 +27,7 @@ value along the meridian where it varies), a quantity of the file becomes inside
 - a pressure p (force/length^2): P = p L / (mu h);
 - a line force q (force/length): q / (mu h);
 - a line moment m (force length/length): m / (mu h L);
+- a point force F (force): F / (mu h L);
 - an energy E (modulus length^3 = force length): E / (mu h L^2).
 
 Expressions are evaluated in the file's units: they see s, r, z, k1_ref, k2_ref as the
@@ -56,7 +57,7 @@ import keyword
 import math
 import re
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, NamedTuple
 
@@ -292,6 +293,11 @@ class Units:
     def line_force(self) -> float:
         """The engine's unit of a line force (force per length), mu h."""
         return self.modulus * self.thickness
+
+    @property
+    def point_force(self) -> float:
+        """The engine's unit of a point force, mu h L."""
+        return self.modulus * self.thickness * self.length
 
     @property
     def line_moment(self) -> float:
@@ -791,7 +797,7 @@ def _read(data: dict, source: str) -> SceneFile:
 
     stimulus = _stimulus(top, meridian, units, param)
     pressure = _pressure(top, units, param)
-    ends = _ends(top, meridian, units, param)
+    ends = _pole_force(top, meridian, units, param, _ends(top, meridian, units, param))
     method, tol, monitor = _solver(top, stop - start, scale)
     observables = _observables(top, units, meridian, parameter)
     try:
@@ -983,11 +989,36 @@ def _load(value, key, factor, param) -> LoadFunction:
     return fn
 
 
+LOAD_KEYS = ("pressure", "pole_force", "pole")
+
+
 def _pressure(top, units, param):
-    t = top.table("loads", ("pressure",))
+    t = top.table("loads", LOAD_KEYS)
     if "pressure" not in t:
         return None
     return _load(t.raw("pressure"), "loads.pressure", 1.0 / units.pressure, param)
+
+
+def _pole_force(top, meridian, units, param, ends):
+    """The ends with ``[loads] pole_force`` (a point force along +z, the file's force unit)
+    on the pole ``[loads] pole`` (default: the only pole, or the second of two, the first
+    holding a free body's axial position)."""
+    t = top.table("loads", LOAD_KEYS)
+    if "pole_force" not in t:
+        if "pole" in t:
+            raise ValueError("loads.pole: names the pole of a pole_force, and there is none")
+        return ends
+    poles = [w for w, pole in zip(("first", "second"), meridian.poles) if pole]
+    if not poles:
+        raise ValueError("loads.pole_force: the meridian has no pole (no end on the axis) to "
+                         "push; use the ends' axial_force for a line load on an edge")
+    which = t.string("pole", poles[-1], choices=("first", "second"))
+    if which not in poles:
+        raise ValueError(f"loads.pole: the {which} end is not a pole (on the axis); the poles "
+                         f"are: {', '.join(poles)}")
+    fn = _load(t.raw("pole_force"), "loads.pole_force", 1.0 / units.point_force, param)
+    k = ("first", "second").index(which)
+    return tuple(replace(e, force=fn) if i == k else e for i, e in enumerate(ends))
 
 
 #: the file's names of an end's loads -> the End's

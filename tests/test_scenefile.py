@@ -222,6 +222,10 @@ BAD = [
     ('[ends]', '[solver]\nmethod = "magic"\n[ends]', "solver.method: must be one of spectral"),
     ('[ends]', '[solver]\nmonitor = "uz(third)"\n[ends]', "solver.monitor: monitor 'uz(third)'"),
     ('[material]', 'x = = 1\n[material]', "not a TOML file: "),
+    ('pressure = "p"', 'pressure = "p"\npole = "second"',
+     "loads.pole: names the pole of a pole_force, and there is none"),
+    ('pressure = "p"', 'pole_force = "p"\npole = "second"',
+     "loads.pole: the second end is not a pole (on the axis); the poles are: first"),
 ]
 
 
@@ -448,3 +452,23 @@ def test_second_process_loads_the_compiled_programs(tmp_path):
     assert results[1] == results[0]
     print(f"\nshellbvp follow clamped-plate in fresh processes: first {times[0]:.1f} s, "
           f"second {times[1]:.1f} s ({len(entries[0])} files on disk)")
+
+
+def test_a_point_force_in_newtons_on_a_plate_in_millimetres(tmp_path):
+    """``[loads] pole_force`` on the clamped plate of PLATE in millimetres and N/mm^2: its
+    centre deflection is Kirchhoff's w(0) = -F a^2 / (16 pi D) (D = E h^3 / 12 (1 - nu^2))
+    to 1e-5 (the geometric nonlinearity at this load, O((w/h)^2) ~ 1e-6). A pole_force on
+    a meridian without a pole is named."""
+    a, h, E, nu, F = 250.0, 2.5, 210000.0, 0.3, 1.0
+    text = (PLATE.replace("r = [0.0, 1.0]", f"r = [0.0, {a}]")
+            .replace("thickness = 0.01", f"thickness = {h}").replace("E = 1.0", f"E = {E}")
+            .replace('name = "p"', 'name = "F"').replace("to = 1.0e-6", f"to = {F}")
+            .replace('pressure = "p"', 'pole_force = "-F"'))
+    sf = shellbvp.load_scene(_write(tmp_path, text))
+    last = sf.follow().last
+    D = E * h**3 / (12 * (1 - nu**2))
+    assert abs(last["w_centre"] / (-last["p"] * a**2 / (16 * math.pi * D)) - 1) < 1e-5
+    annulus = text.replace("r = [0.0, 250.0]", "r = [50.0, 250.0]").replace(
+        'first = "pole"', 'first = "free"')
+    with pytest.raises(ValueError, match="loads.pole_force: the meridian has no pole"):
+        shellbvp.load_scene(_write(tmp_path, annulus, "annulus.toml"))

@@ -668,19 +668,21 @@ class RitzSystem:
 
     # --- end loads and the axial position -------------------------------------------------
     def _end_loads(self, p):
-        """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) of its line loads at
-        p and their p-derivatives: Q = load per unit reference length x r0 there, Q_theta
+        """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) of its line loads (and
+        of a pole's point force, Q_z = force / 2 pi) at p and their p-derivatives: Q = load
+        per unit reference length x r0 there, Q_theta
         = -moment r0 (a counterclockwise moment turns theta negatively)."""
         out = []
         for k, end in enumerate(self.scene.ends):
             r0 = float(self.reference_ends[k][0])
             Q, dQ = np.zeros(3), np.zeros(3)
-            for j, name in enumerate(("radial", "axial", "moment")):
+            # (load, its component, its factor): a pole's point force is axial, per radian
+            for name, j, factor in (("radial", 0, r0), ("axial", 1, r0), ("moment", 2, -r0),
+                                    ("force", 1, 1.0 / (2.0 * math.pi))):
                 load = getattr(end, name)
                 if load is not None:
-                    sign = -1.0 if name == "moment" else 1.0
-                    Q[j] = sign * r0 * float(load(p))
-                    dQ[j] = sign * r0 * _derivative(load, p)
+                    Q[j] += factor * float(load(p))
+                    dQ[j] += factor * _derivative(load, p)
             out.append((Q, dQ))
         return out
 
