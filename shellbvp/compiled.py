@@ -124,12 +124,14 @@ class PointFunctions(NamedTuple):
     curvature: Callable | None = None
 
 
-def energy_at(W, X, F, lam, h):
+def energy_at(W, X, F, lam, h, thickness=True):
     """W at the principal state X (4,) and the fields F: the target curvatures, the local
-    thickness h t and the through-thickness stimulus read from F."""
+    thickness h t and the through-thickness stimulus read from F; without ``thickness``
+    (no profile: t = 1) the thickness is h itself, a scalar where F varies along the
+    meridian, so that W's terms in h alone are not evaluated at every node."""
     rb = K.RHOB.start
-    return W(X[0], X[1], X[2], X[3], F[K.KB1], F[K.KB2], lam, h * F[K.THICKNESS], F[rb],
-             F[rb + 1], F[rb + 2])
+    ht = h * F[K.THICKNESS] if thickness else h
+    return W(X[0], X[1], X[2], X[3], F[K.KB1], F[K.KB2], lam, ht, F[rb], F[rb + 1], F[rb + 2])
 
 
 @lru_cache(maxsize=None)
@@ -156,9 +158,9 @@ def point_functions(model, material, through_thickness, metric, thickness=False)
     el = _el_jax(bool(metric))
 
     def W4(X, F, lam, h):
-        return energy_at(Wf, X, F, lam, h)
+        return energy_at(Wf, X, F, lam, h, thickness)
 
-    pf = _functions_of(W4, el)
+    pf = _functions_of(W4, el, thickness)
     # the arguments of W besides X that the fold system's direction may move: the target
     # curvatures always, the local thickness and the through-thickness stimulus where the
     # scene makes them vary
@@ -216,7 +218,7 @@ def point_functions(model, material, through_thickness, metric, thickness=False)
             cubic = 3 * al * (d @ Kd @ d) - 3 * al**2 * (Kd @ a) @ d + al**3 * (a @ Kd @ a)
             return W0 + g @ d + 0.5 * d @ H @ d + cubic / 6.0
 
-        fns = _functions_of(W_model, el)
+        fns = _functions_of(W_model, el, thickness)
 
         def value_and_gradient(y_, p_, s_):
             F_, fields_vjp = jax.vjp(lambda pp, ss: fields(ss, pp), p_, s_)
@@ -255,9 +257,11 @@ def materialised(fn, runtime):
                                                        jax.eval_shape(fn)))
 
 
-def _functions_of(W4, el):
+def _functions_of(W4, el, thickness=True):
     """The single-node functions of :func:`point_functions` for the energy W4(X, F, lam, h)
-    and the generated Euler-Lagrange expressions ``el``."""
+    and the generated Euler-Lagrange expressions ``el``; without ``thickness`` the profile
+    t of F is 1 (no profile) and enters the expressions as the constant, which the compiler
+    folds (F's entry, equal to it, varies along the meridian to the compiler)."""
 
     def grad_aux(X, F, lam, h):
         g = jax.jacfwd(W4)(X, F, lam, h)
@@ -269,6 +273,8 @@ def _functions_of(W4, el):
     iu = np.triu_indices(4)
 
     def args(y, q, F, g, H, h):
+        if not thickness:
+            F = [1.0 if i == K.THICKNESS else F[i] for i in range(K.N_FIELDS)]
         return (*y, *q, h, *F, *g, *H[iu])
 
     zero4, zero44 = jnp.zeros(4), jnp.zeros((4, 4))
@@ -344,9 +350,11 @@ def _functions_of(W4, el):
         a = args(y, q, F, g, zero44, h)
         return _arr(el["f"](*a)), _arr(el["G"](*a))
 
-    def rhs_jac(y, F, dF, lam, h, q_init=None):
+    def rhs_jac(y, F, dF, lam, h, q_init=None, moving=None):
         """f, df/dy and the derivative of f along a change dF of the fields (a parameter
-        derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0."""
+        derivative df/dp when dF = dF/dp), both by implicit differentiation of G = 0.
+        ``moving``: the indices of F that dF may change (its other entries are zero and
+        ignored: no derivative is taken in them), all where None."""
         # everything at the root, with the W-jet root() computed there: df/dy is exact to
         # round-off (the BVP's ``jacobian_error``) whatever the inner Newton's start
         q_root, ok, (g, H) = root(y, F, lam, h, q_init)
@@ -355,18 +363,30 @@ def _functions_of(W4, el):
         Gq, Gy = _arr(el["G_q"](*a)), _arr(el["G_y"](*a))
         # f and G along dF: W's gradient and its derivative along dF kept (each of f, df
         # and dG fused its own copy of them), the generated expressions on top
+        idx = range(K.N_FIELDS) if moving is None else tuple(moving)
+
+        def with_moving(Fm):
+            # F with the entries dF may change from Fm, the others constants (no tangent)
+            out = [F[i] for i in range(K.N_FIELDS)]
+            for i, v in zip(idx, Fm):
+                out[i] = v
+            return out
+
+        Fm, dFm = tuple(F[i] for i in idx), tuple(dF[i] for i in idx)
+
         def gradient_along():
-            def g_of(F_):
+            def g_of(Fm_):
+                F_ = with_moving(Fm_)
                 return jax.jacfwd(W4)(X_of(y, q_root, F_, h), F_, lam, h)
-            return jax.jvp(g_of, (F,), (dF,))
+            return jax.jvp(g_of, (Fm,), (dFm,))
 
         gF, dgF = materialised(gradient_along, lam)
 
-        def f_G(F_, g_):
-            a_ = args(y, q_root, F_, g_, zero44, h)
+        def f_G(Fm_, g_):
+            a_ = args(y, q_root, with_moving(Fm_), g_, zero44, h)
             return _arr(el["f"](*a_)), _arr(el["G"](*a_))
 
-        (f, _), (df, dG) = jax.jvp(f_G, (F, gF), (dF, dgF))
+        (f, _), (df, dG) = jax.jvp(f_G, (Fm, gF), (dFm, dgF))
         dq = -solve_2x2(Gq, jnp.concatenate([Gy, dG[:, None]], axis=1))
         J = fy + fq @ dq[:, :6]
         fp = df + fq @ dq[:, 6]

@@ -18,7 +18,7 @@ import numpy as np
 from .geometry import AXIS_TOL
 
 __all__ = ["ReferencePoint", "call_fields", "point_fields", "reference_point",
-           "interface_jumps"]
+           "interface_jumps", "parameter_fields"]
 
 
 class ReferencePoint(NamedTuple):
@@ -73,6 +73,20 @@ def reference_point(scene, piece: int, s, xp=np) -> ReferencePoint:
     on_axis = r <= AXIS_TOL * scene.geometry.size
     k2 = xp.where(on_axis, k1, -xp.sin(theta) / xp.where(on_axis, 1.0, r))
     return ReferencePoint(piece, s, r, z, theta, k1, k2)
+
+
+def parameter_fields(scene) -> tuple[int, ...]:
+    """The indices of F (:func:`point_fields`) that may depend on the parameter p: the target
+    where the scene has a stimulus, the pressure where it has one, the through-thickness
+    stimulus where it has one (the reference radius and the thickness profile never do). A
+    derivative in p need not be taken in the others."""
+    from . import kinematics as K
+
+    out = list(range(K.G1, K.KB2 + 1)) if scene.fields is not None else []
+    out += [K.PRESSURE] if scene.pressure is not None else []
+    out += list(range(K.RHOB.start, K.RHOB.stop)) if scene.through_thickness is not None \
+        else []
+    return tuple(out)
 
 
 def _broadcast(v, s, xp):

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import kinematics as K
 from .compiled import point_functions, solve_2x2
-from .fields import point_fields
+from .fields import parameter_fields, point_fields
 from .scene import LOAD_NAMES, per_scene
 from .jaxsetup import jax
 from .packed import Packed
@@ -212,6 +212,7 @@ def _build(scene, log_poles, key) -> Kernels:
     end_offset = (float(geo.theta_offsets[segs[0]]), float(geo.theta_offsets[segs[-1]]))
     theta_pole = (0.0, np.pi)
     rise_scale = scene.monitor_scale != scene.h      # the monitor in rises, else in h
+    moving = parameter_fields(scene)
 
     def packed(fn, name):
         return Packed(fn, None if base is None else f"{name}:{base}")
@@ -234,7 +235,7 @@ def _build(scene, log_poles, key) -> Kernels:
 
     def nodal_one(piece, s, y, p, lam, h, c, q_init):
         F, dF = jax.jvp(lambda p_: fields_at(piece, s, p_, c), (p,), (jnp.ones_like(p),))
-        f, J, fp, ok, q, dq = pf.rhs_jac(y, F, dF, lam, h, q_init)
+        f, J, fp, ok, q, dq = pf.rhs_jac(y, F, dF, lam, h, q_init, moving)
         return F, f, J, fp, ok, q, dq
 
     def state_along(piece, s, y, p, lam, h, c, q_start, q_hints):
