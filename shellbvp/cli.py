@@ -12,7 +12,8 @@ FILE is a scene file (TOML, :mod:`shellbvp.scenefile`), or the name of an exampl
 with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.examples`).
 ``--json`` prints one JSON object instead of the text: ``follow`` ``{"folds": [{"p",
 "error_estimate", <observables>}], "last": {"p", <observables>}, "stop"}``, ``stability``
-``{"kind", "n", "p", "error_estimate"}``, in the file's units (null for what is undefined).
+``{"kind", "n", "p", "error_estimate"}`` (and ``"stop"`` for none), in the file's units
+(null for what is undefined).
 
 Bad arguments or a bad scene file exit with code 2 and one line on stderr (a file's line
 starts with its key); a solver failure exits with 1. A
@@ -211,7 +212,7 @@ def _stability_file(sf, a) -> None:
             "none": f"none up to {sf.parameter} = {found.p:.10g}{unit}"}[found.kind]
     print(f"{sf.title or sf.source}: first instability: {what}" + (
         f" at {sf.parameter} = {found.p:.10g}{unit} +- {found.error_estimate:.1e}"
-        if found.kind != "none" else ""))
+        if found.kind != "none" else f" (the branch ended: {found.stop})"))
 
 
 def main(argv=None) -> int:

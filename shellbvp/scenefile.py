@@ -715,9 +715,14 @@ class SceneInstability:
     instability: object = field(repr=False, default=None)
 
     def summary(self) -> dict:
-        """The command line's JSON object ``{"kind", "n", "p", "error_estimate"}``."""
-        return _json_values({"kind": self.kind, "n": self.n, "p": self.p,
-                             "error_estimate": self.error_estimate})
+        """The command line's JSON object ``{"kind", "n", "p", "error_estimate"}``, with
+        ``"stop"`` where nothing was found (why the branch ended there: ``to`` reached, or
+        another reason, which then bounds the answer)."""
+        out = {"kind": self.kind, "n": self.n, "p": self.p,
+               "error_estimate": self.error_estimate}
+        if self.kind == "none":
+            out["stop"] = self.stop
+        return _json_values(out)
 
 
 def _json_values(d: dict) -> dict:
