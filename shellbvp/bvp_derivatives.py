@@ -1,8 +1,8 @@
 """Derivatives of the shell BVP beyond its Jacobian: in the scene's data (the meridian's
 length, the material parameter, h) and the second derivatives of the fold system, all exact
-(JAX, the inner root differentiated implicitly). A part of :class:`shellbvp.bvp.ShellBVP` (a base class it
-inherits), kept apart because only the fold machinery of the spectral method needs it
-(:class:`shellbvp.methods.base.SecondOrder`).
+(JAX, the inner root differentiated implicitly). A part of :class:`shellbvp.bvp.ShellBVP`
+(a base class it inherits), kept apart because only the fold machinery of the spectral
+method needs it (:class:`shellbvp.methods.base.SecondOrder`).
 """
 
 from __future__ import annotations
