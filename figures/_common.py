@@ -80,3 +80,11 @@ def finish(fig, out: Path, stem: str) -> None:
     fig.tight_layout()
     save_png(fig, out / f"{stem}.png")
     print(f"wrote {out / (stem + '.png')} and .csv")
+
+
+def print_summary(result: dict, drop=("curves",)) -> None:
+    """A gallery case's last line: its summary (everything but the keys ``drop``, its curves)
+    as one JSON object, the line ``figures/gallery.py`` collects."""
+    import json
+
+    print(json.dumps({k: v for k, v in result.items() if k not in drop}))

@@ -68,14 +68,13 @@ about fourfold when R is doubled at fixed a and t.
 from __future__ import annotations
 
 import csv
-import json
 import math
 import sys
 import time
 
 import numpy as np
 
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import HERE, finish, parser, pyplot, print_summary, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "cap-apex-load.toml"
@@ -258,7 +257,7 @@ def main(argv=None):
     ax.legend(fontsize=7.5, loc="upper left")
     ax.grid(alpha=0.3)
     finish(fig, a.out, "gallery_cap_apex_load")
-    print(json.dumps({k: v for k, v in r.items() if k != "curves"}))
+    print_summary(r)
 
 
 if __name__ == "__main__":

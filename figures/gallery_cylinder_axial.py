@@ -48,14 +48,13 @@ as it is.
 from __future__ import annotations
 
 import csv
-import json
 import math
 import sys
 import time
 
 import numpy as np
 
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import HERE, finish, parser, pyplot, print_summary, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "cylinder-axial.toml"
@@ -197,8 +196,7 @@ def main(argv=None):
     ax.legend(fontsize=8, loc="lower right")
     ax.grid(alpha=0.3)
     finish(fig, a.out, "gallery_cylinder_axial")
-    summary = {k: v for k, v in r.items() if k != "curves"}
-    print(json.dumps(summary))
+    print_summary(r)
 
 
 if __name__ == "__main__":

@@ -58,7 +58,6 @@ gallery_disc_curvature.png, and prints the summary as one JSON line.
 from __future__ import annotations
 
 import csv
-import json
 import math
 import sys
 import tempfile
@@ -67,7 +66,7 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import HERE, finish, parser, print_summary, pyplot, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "disc-natural-curvature.toml"
@@ -263,8 +262,7 @@ def main(argv=None):
     bx.legend(fontsize=8)
     bx.grid(alpha=0.3)
     finish(fig, a.out, "gallery_disc_curvature")
-    summary = {k: v for k, v in r.items() if k not in ("curves", "extra")}
-    print(json.dumps(summary))
+    print_summary(r, drop=("curves", "extra"))
 
 
 if __name__ == "__main__":

@@ -68,7 +68,6 @@ formula, folds marked) and gallery_disc_spring.png, and prints the summary as on
 from __future__ import annotations
 
 import csv
-import json
 import math
 import sys
 import tempfile
@@ -78,7 +77,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import HERE, finish, parser, pyplot, print_summary, write_csv
 
 ROOT = HERE.parent
 SCENES = {"h0/t = 0.75": ROOT / "problems" / "gallery" / "disc-spring-almen.toml",
@@ -349,8 +348,7 @@ def main(argv=None):
     bx.legend(fontsize=8)
     bx.grid(alpha=0.3)
     finish(fig, a.out, "gallery_disc_spring")
-    summary = {k: v for k, v in r.items() if k != "curves"}
-    print(json.dumps(summary))
+    print_summary(r)
 
 
 if __name__ == "__main__":
