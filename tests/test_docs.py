@@ -194,3 +194,15 @@ def test_code_blocks_run_and_print_what_the_page_states(page, tmp_path, monkeypa
             assert not wrong, (f"{where} does not print what block {k + 2} states: "
                                + "; ".join(wrong)
                                + f"\n--- stated\n{stated.rstrip()}\n--- printed\n{printed}")
+
+
+def test_the_sites_scripts_are_served_with_it():
+    """Equations are typeset by MathJax served with the site (no network): every
+    ``extra_javascript`` of mkdocs.yml is a file under docs/, MathJax's fonts beside it."""
+    text = (ROOT / "mkdocs.yml").read_text()
+    block = re.match(r"((?:\n\s+-\s+\S+)+)", text.split("extra_javascript:", 1)[1]).group(1)
+    scripts = re.findall(r"-\s+(\S+)", block)
+    assert any("mathjax" in s for s in scripts)
+    for s in scripts:
+        assert "://" not in s and (ROOT / "docs" / s).is_file(), s
+    assert list((ROOT / "docs/javascripts/mathjax/output/chtml/fonts/woff-v2").glob("*.woff*"))
