@@ -35,7 +35,8 @@ matrix holds the axisymmetric second variation and the torsional one.
 Pole regularity (a smooth vector field near the axis: a scalar ~ r^n, u_r +- i u_omega ~
 r^(n -+ 1)), imposed at each end on the axis:
 
-* n = 0: U_r = U_w = 0 and U_z' = 0 (no cone at the apex);
+* n = 0: U_r = U_w = 0 and U_z' = 0 (no cone at the apex), and U_z = 0 where the pole's
+  displacement is prescribed (an indenter holds it);
 * n = 1: U_z = 0 and U_r + U_w = 0 (a lateral translation is U_r = 1, U_w = -1; a tilt
   has U_z ~ r, so U_z' is free);
 * n >= 2: U_r = U_w = U_z = 0 and U_z' = 0 (curvature changes ~ n^2 U_z / r^2 must be
@@ -257,6 +258,7 @@ class _Base:
     kinds: tuple                  # the kinds of the two ends (shellbvp.scene.End)
     G: np.ndarray                 # (P, m, 18): the density's gradient (first variation)
     pressure: float               # the follower pressure P at this equilibrium
+    displaced: tuple              # per end: a pole whose axial displacement is prescribed
 
 
 @lru_cache(maxsize=32)
@@ -354,7 +356,7 @@ def _base(eq: Equilibrium, degree: int) -> _Base:
     return _Base(tuple(bounds), np.stack(S), np.stack(WQ), np.stack(AREA), np.stack(TH),
                  np.stack(R), np.stack(Zs), np.stack(LAM), H.reshape(P, m, 18, 18), ends,
                  degree, tuple(Es), tuple(e.kind for e in sc.ends), G.reshape(P, m, 18),
-                 pressure)
+                 pressure, tuple(e.displacement is not None for e in sc.ends))
 
 
 # --- assembly -------------------------------------------------------------------------------
@@ -419,6 +421,8 @@ def _constraints(base: _Base, n: int) -> np.ndarray:
         if kind == "pole":
             if n == 0:
                 rows += [R(i, side, 0, 0), R(i, side, 0, 1), R(i, side, 1, 2)]
+                if base.displaced[end]:          # the indenter holds the pole's z
+                    rows.append(R(i, side, 0, 2))
             elif n == 1:
                 rows += [R(i, side, 0, 2), R(i, side, 0, 0) + R(i, side, 0, 1)]
             else:
@@ -441,9 +445,9 @@ def _interface_row(base: _Base, n: int, i: int) -> int:
     """The index of interface i's rotation row in :func:`_constraints` (the ends' rows come
     first, then 3 + 1 rows per interface)."""
     count = 0
-    for kind in base.kinds:
+    for kind, displaced in zip(base.kinds, base.displaced):
         if kind == "pole":
-            count += (3, 2, 4)[_pole_class(n)]
+            count += (3, 2, 4)[_pole_class(n)] + int(displaced and n == 0)
         else:
             comps, rotation = HOLDS[kind]
             count += len(comps) + int(rotation)
@@ -456,9 +460,11 @@ def _rigid(base: _Base, n: int) -> list:
     if n > 1:
         return []
     held = set()
-    for kind in base.kinds:
+    for kind, displaced in zip(base.kinds, base.displaced):
         if kind != "pole":
             held |= set(HOLDS[kind][0])
+        elif displaced:
+            held.add(2)
     r, z = base.r.ravel(), base.z.ravel()
     one, zero = np.ones_like(r), np.zeros_like(r)
     if n == 0:

@@ -281,6 +281,9 @@ def _build(scene, log_poles, key) -> Kernels:
         X = fns.X(y, q, F, h)
         if pinned == end:
             third = end_value(y, "z", True, theta_pole[end], jnp) - z_ref
+        elif loads[end][LOAD_NAMES.index("displacement")] is not None:
+            third = (end_value(y, "z", True, theta_pole[end], jnp) - z_ref
+                     - loads[end][LOAD_NAMES.index("displacement")](p))
         else:                          # the point force, per radian: force / (2 pi)
             Q = natural(end, "force", p, 1.0 / (2.0 * np.pi))
             third = y[5] if isinstance(Q, float) and Q == 0.0 else y[5] - 12.0 / (h * h) * Q

@@ -77,7 +77,7 @@ USES = {"cg": "it uses lam and model", "nh": "incompressible: no material parame
 #: (F_r, F_z, M) are given (the rest follow); a pole fixes r = 0 by its regularity
 END_KINDS = {
     "pole": ("an end on the axis: regular there (equal stretches and curvatures), the point "
-             "force given (default zero)"),
+             "force given (default zero) or its axial displacement prescribed"),
     "free": "nothing fixed; the forces and the moment given (line loads, default zero)",
     "clamped": "r, z and theta fixed at the reference's values",
     "hinged": "r and z fixed; the moment given",
@@ -85,12 +85,13 @@ END_KINDS = {
     "symmetry": ("a mirror plane normal to the axis: theta fixed (the tangent parallel to "
                  "the axis), no shear (F_r = 0), the axial force given"),
 }
-#: the loads an end may carry, in the order of :attr:`End.loads`
-LOAD_NAMES = ("axial", "radial", "moment", "force")
+#: the loads an end may carry (a pole's prescribed displacement among them: what the end is
+#: given as a function of the parameter), in the order of :attr:`End.loads`
+LOAD_NAMES = ("axial", "radial", "moment", "force", "displacement")
 #: the ends that fix the axial position z
 FIXES_Z = ("clamped", "hinged", "roller")
 #: the line loads each kind of end accepts (where it is free to move)
-LOADS_OF = {"pole": ("force",), "free": ("axial", "radial", "moment"), "clamped": (),
+LOADS_OF = {"pole": ("force", "displacement"), "free": ("axial", "radial", "moment"), "clamped": (),
             "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",)}
 
 
@@ -153,6 +154,12 @@ class End:
         force: at a pole, the axial point force there (the total, per mu* h R, along +z),
             a function of p, a number or None (zero). A dead load: its potential is
             -force z(pole).
+        displacement: at a pole, instead of a force, its axial displacement from the
+            reference (along +z, in R), a function of p: displacement control (a rigid
+            indenter on the pole), which passes the load maxima a force cannot. The pole then
+            holds z; the force it takes is the reaction, ``2 pi F_z`` per mu* h R at a
+            second end and ``-2 pi F_z`` at a first (:attr:`shellbvp.Equilibrium.F_z` at the
+            pole). Another end must hold z too (a free body has nothing to push against).
     """
 
     kind: str
@@ -160,6 +167,7 @@ class End:
     radial: Callable | float | None = None
     moment: Callable | float | None = None
     force: Callable | float | None = None
+    displacement: Callable | float | None = None
 
     def __post_init__(self):
         checks.check_choice("end kind", self.kind, tuple(END_KINDS))
@@ -177,10 +185,12 @@ class End:
             elif not callable(value):
                 raise ValueError(f"{name} load must be a number or a function of the "
                                  f"parameter, got {type(value).__name__}")
+        if self.force is not None and self.displacement is not None:
+            raise ValueError("a pole takes a force or a prescribed displacement, not both")
 
     @property
     def fixes_z(self) -> bool:
-        return self.kind in FIXES_Z
+        return self.kind in FIXES_Z or self.displacement is not None
 
     @property
     def loaded(self) -> bool:
@@ -362,6 +372,12 @@ class Scene:
                         f"there (a mirror plane normal to the axis); the {which} end's "
                         f"tangent makes {math.degrees(theta0):.6g} degrees with the plane")
         object.__setattr__(self, "ends", ends)
+        for which, end, other in zip(("first", "second"), ends, ends[::-1]):
+            if end.displacement is not None and not other.fixes_z:
+                raise ValueError(f"the {which} end's prescribed displacement needs the other "
+                                 f"end to hold z (clamped, hinged, roller, or a pole with a "
+                                 f"displacement): on a free body it would move it rigidly, "
+                                 f"against nothing")
         if not any(e.fixes_z for e in ends) and ends[0].force is not None:
             raise ValueError("the first end's point force would be taken by the reaction that "
                              "holds the first end's z (no end fixes the axial position, so "

@@ -27,7 +27,7 @@ value along the meridian where it varies), a quantity of the file becomes inside
 - a pressure p (force/length^2): P = p L / (mu h);
 - a line force q (force/length): q / (mu h);
 - a line moment m (force length/length): m / (mu h L);
-- a point force F (force): F / (mu h L);
+- a point force F (force): F / (mu h L); a pole's prescribed displacement: d / L;
 - an energy E (modulus length^3 = force length): E / (mu h L^2).
 
 Expressions are evaluated in the file's units: they see s, r, z, k1_ref, k2_ref as the
@@ -411,22 +411,26 @@ class LoadFunction(_KeyedFunction):
 
 # --------------------------------------------------------------------------- observables
 
-_TERM = re.compile(r"\s*([+-]?)\s*(ur|uz|rotation)\s*\(\s*(first|second|s\s*=\s*([^()]*?))"
+_TERM = re.compile(r"\s*([+-]?)\s*(ur|uz|rotation|force)\s*\(\s*(first|second|s\s*=\s*([^()]*?))"
                    r"\s*\)\s*")
 
 
 @dataclass(frozen=True)
 class Observable:
     """A named column: a displacement from the reference or a rotation at an end or at an
-    arclength, or a sum or difference of such terms (``"uz(second) - uz(first)"``).
+    arclength, or a sum or difference of such terms (``"uz(second) - uz(first)"``), or the
+    axial force on an end (``"force(first)"``: the total force, along +z, that the support
+    or the load applies to the shell there; a held pole's reaction under displacement
+    control).
 
     Attributes:
         name: the column's name.
         text: as the file gives it.
-        terms: ((sign, component, where), ...), component ``"ur"``, ``"uz"`` or
-            ``"rotation"``, where ``"first"``, ``"second"`` or an arclength s in the
-            file's length unit.
-        unit: the column's unit (the file's length label, or ``rad`` for rotations).
+        terms: ((sign, component, where), ...), component ``"ur"``, ``"uz"``,
+            ``"rotation"`` or ``"force"``, where ``"first"``, ``"second"`` or (not for a
+            force) an arclength s in the file's length unit.
+        unit: the column's unit (the file's length label, ``rad`` for rotations, modulus x
+            length^2 for a force).
     """
 
     name: str
@@ -439,7 +443,7 @@ class Observable:
         return f"{self.name}[{self.unit}]"
 
 
-def _observable(name, text, key, length_label, arclength) -> Observable:
+def _observable(name, text, key, length_label, arclength, force_label="force") -> Observable:
     if not isinstance(text, str):
         raise ValueError(f"{key}: expected a string such as \"uz(second)\", got "
                          f"{_describe(text)}")
@@ -449,7 +453,8 @@ def _observable(name, text, key, length_label, arclength) -> Observable:
         if m is None or m.end() == at or (terms and not m.group(1)):
             raise ValueError(f"{key}: cannot read {text!r} at column {at + 1}: expected "
                              f"ur(END), uz(END) or rotation(END) with END = first, second "
-                             f"or s=VALUE, or a sum or difference of such terms")
+                             f"or s=VALUE, force(first) or force(second), or a sum or "
+                             f"difference of such terms")
         where = m.group(3)
         if m.group(4) is not None:
             try:
@@ -459,15 +464,20 @@ def _observable(name, text, key, length_label, arclength) -> Observable:
             if not (math.isfinite(where) and 0.0 <= where <= arclength):
                 raise ValueError(f"{key}: s = {where:g} outside the meridian, s in "
                                  f"[0, {arclength:.10g}]")
+        if m.group(2) == "force" and isinstance(where, float):
+            raise ValueError(f"{key}: force(...) is read at an end: force(first) or "
+                             f"force(second)")
         terms.append((-1.0 if m.group(1) == "-" else 1.0, m.group(2), where))
         at = m.end()
     if not terms:
         raise ValueError(f"{key}: empty; expected e.g. \"uz(second)\"")
-    rotation = {c == "rotation" for _, c, _ in terms}
-    if len(rotation) > 1:
-        raise ValueError(f"{key}: {text!r} adds a rotation to a displacement (different "
-                         f"units)")
-    return Observable(name, text, tuple(terms), "rad" if rotation == {True} else length_label)
+    kinds = {"rotation" if c == "rotation" else "force" if c == "force" else "length"
+             for _, c, _ in terms}
+    if len(kinds) > 1:
+        raise ValueError(f"{key}: {text!r} adds terms of different units (a rotation, a "
+                         f"displacement, a force)")
+    unit = {"rotation": "rad", "force": force_label, "length": length_label}[kinds.pop()]
+    return Observable(name, text, tuple(terms), unit)
 
 
 # --------------------------------------------------------------------------- the scene file
@@ -599,6 +609,12 @@ class SceneFile:
 
         geo = self.scene.geometry
         end, s = self._place(bvp, where)
+        if comp == "force":
+            # F_z per radian (the unknown is scaled by 12 / h^2); the support's force on
+            # the shell is -2 pi F_z at the first end, 2 pi F_z at the second
+            F_z = float(y[5]) * self.scene.h ** 2 / 12.0
+            return (2 * math.pi * F_z * (1.0 if end == 1 else -1.0)
+                    * self.units.point_force)
         index = {"ur": 0, "uz": 1, "rotation": 2}[comp]
         if end is None:
             value = y[index] - float(geo.evaluate(s)[index])
@@ -994,7 +1010,7 @@ def _load(value, key, factor, param) -> LoadFunction:
     return fn
 
 
-LOAD_KEYS = ("pressure", "pole_force", "pole")
+LOAD_KEYS = ("pressure", "pole_force", "pole_displacement", "pole")
 
 
 def _pressure(top, units, param):
@@ -1006,24 +1022,33 @@ def _pressure(top, units, param):
 
 def _pole_force(top, meridian, units, param, ends):
     """The ends with ``[loads] pole_force`` (a point force along +z, the file's force unit)
-    on the pole ``[loads] pole`` (default: the only pole, or the second of two, the first
-    holding a free body's axial position)."""
+    or ``pole_displacement`` (the pole's prescribed axial displacement, the file's length
+    unit: displacement control) on the pole ``[loads] pole`` (default: the only pole, or the
+    second of two, the first holding a free body's axial position)."""
     t = top.table("loads", LOAD_KEYS)
-    if "pole_force" not in t:
+    given = [k for k in ("pole_force", "pole_displacement") if k in t]
+    if len(given) > 1:
+        raise ValueError("loads.pole_displacement: a pole takes a force or a prescribed "
+                         "displacement, not both")
+    if not given:
         if "pole" in t:
-            raise ValueError("loads.pole: names the pole of a pole_force, and there is none")
+            raise ValueError("loads.pole: names the pole of a pole_force or "
+                             "pole_displacement, and there is none")
         return ends
+    key = given[0]
     poles = [w for w, pole in zip(("first", "second"), meridian.poles) if pole]
     if not poles:
-        raise ValueError("loads.pole_force: the meridian has no pole (no end on the axis) to "
-                         "push; use the ends' axial_force for a line load on an edge")
+        raise ValueError(f"loads.{key}: the meridian has no pole (no end on the axis) to "
+                         f"push; use the ends' axial_force for a line load on an edge")
     which = t.string("pole", poles[-1], choices=("first", "second"))
     if which not in poles:
         raise ValueError(f"loads.pole: the {which} end is not a pole (on the axis); the poles "
                          f"are: {', '.join(poles)}")
-    fn = _load(t.raw("pole_force"), "loads.pole_force", 1.0 / units.point_force, param)
+    factor = 1.0 / (units.point_force if key == "pole_force" else units.length)
+    fn = _load(t.raw(key), f"loads.{key}", factor, param)
     k = ("first", "second").index(which)
-    return tuple(replace(e, force=fn) if i == k else e for i, e in enumerate(ends))
+    field_ = "force" if key == "pole_force" else "displacement"
+    return tuple(replace(e, **{field_: fn}) if i == k else e for i, e in enumerate(ends))
 
 
 #: the file's names of an end's loads -> the End's
@@ -1097,7 +1122,8 @@ def _observables(top, units, meridian, parameter):
             raise ValueError(f"{key}: the name is taken (reserved: "
                              f"{', '.join((*RESERVED, parameter))})")
         out.append(_observable(name, text, key, units.length_label,
-                               meridian.length * units.length))
+                               meridian.length * units.length,
+                               f"{units.modulus_label}*{units.length_label}^2"))
     return tuple(out)
 
 

@@ -139,6 +139,11 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     kinds = tuple(e.kind for e in sc.ends)
     pole_first = kinds[0] == "pole"
     loads = _end_loads(sc, eq.p, ref)
+    # the end whose z stays at its reference's (held, no prescribed displacement): the
+    # other's z is it -+ the drop; the prescribed displacements at p
+    held = [e.fixes_z and e.displacement is None for e in sc.ends]
+    held_second = held[1] and not held[0]
+    moved = [0.0 if e.displacement is None else float(e.displacement(eq.p)) for e in sc.ends]
 
     def shape(v):
         th, l1 = v[:n].reshape(P, N + 1), v[n:2 * n].reshape(P, N + 1)
@@ -166,7 +171,6 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
         # one through the drop of the end that is not held
         ends = ((r[0, 0], th[0, 0]), (r[-1, -1], th[-1, -1]))
         work = sum(Q[0] * ends[k][0] + Q[2] * ends[k][1] for k, Q in enumerate(loads))
-        held_second = sc.ends[1].fixes_z and not sc.ends[0].fixes_z
         work = work + (-loads[0][1] if held_second else loads[1][1]) * drop(th, l1)
         return E + load - 2 * math.pi * work
 
@@ -189,7 +193,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
             if kinds[k] in ("clamped", "hinged"):
                 rows.append(r[i, j] - r0)
         if all(e.fixes_z for e in sc.ends):
-            rows.append(drop(th, l1) - (ref[0][1] - ref[1][1]))
+            rows.append(drop(th, l1) - (ref[0][1] + moved[0] - ref[1][1] - moved[1]))
         return jnp.stack(rows)
 
     # the state at the nodes, from the equilibrium's own interpolant and inner roots
@@ -231,7 +235,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
 def _end_loads(scene, p, ref) -> tuple:
     """Per end, its line loads' conjugate forces per radian (Q_r, Q_z, Q_theta) at p: the
     load per unit reference length times r0 there, Q_theta = -moment r0 (a counterclockwise
-    moment turns theta negatively)."""
+    moment turns theta negatively); a pole's point force adds force / 2 pi to Q_z."""
     out = []
     for k, end in enumerate(scene.ends):
         r0 = float(ref[k][0])
@@ -239,6 +243,8 @@ def _end_loads(scene, p, ref) -> tuple:
         for name, sign in (("radial", 1.0), ("axial", 1.0), ("moment", -1.0)):
             load = getattr(end, name)
             Q.append(0.0 if load is None else sign * r0 * float(load(p)))
+        if end.force is not None:              # a pole's point force, per radian
+            Q[1] += float(end.force(p)) / (2 * math.pi)
         out.append(tuple(Q))
     return tuple(out)
 

@@ -472,3 +472,23 @@ def test_a_point_force_in_newtons_on_a_plate_in_millimetres(tmp_path):
         'first = "pole"', 'first = "free"')
     with pytest.raises(ValueError, match="loads.pole_force: the meridian has no pole"):
         shellbvp.load_scene(_write(tmp_path, annulus, "annulus.toml"))
+
+
+def test_an_indented_plate_reports_the_indenters_force(tmp_path):
+    """``[loads] pole_displacement`` (displacement control) with the observable
+    ``force(first)``: the clamped plate of PLATE in millimetres and N/mm^2, its centre
+    pushed down by d, takes Kirchhoff's force -16 pi D d / a^2 (N) to 1e-4 (the geometric
+    nonlinearity at d / t = 0.006, ~4e-5); a force is read at an end only."""
+    a, h, E, nu = 250.0, 2.5, 210000.0, 0.3
+    text = (PLATE.replace("r = [0.0, 1.0]", f"r = [0.0, {a}]")
+            .replace("thickness = 0.01", f"thickness = {h}").replace("E = 1.0", f"E = {E}")
+            .replace('name = "p"', 'name = "d"').replace("to = 1.0e-6", "to = 0.01")
+            .replace('pressure = "p"', 'pole_displacement = "-d"')
+            .replace('w_centre = "uz(first)"', 'w_centre = "uz(first)"\nF = "force(first)"'))
+    last = shellbvp.load_scene(_write(tmp_path, text)).follow().last
+    D = E * h**3 / (12 * (1 - nu**2))
+    assert last["w_centre"] == pytest.approx(-last["p"], rel=1e-12)
+    assert abs(last["F"] / (-16 * math.pi * D * last["p"] / a**2) - 1) < 1e-4
+    with pytest.raises(ValueError, match="force\\(...\\) is read at an end"):
+        shellbvp.load_scene(_write(tmp_path, text.replace('"force(first)"', '"force(s=1)"'),
+                                   "bad.toml"))

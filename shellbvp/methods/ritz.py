@@ -486,6 +486,13 @@ class RitzSystem:
         #: unknown (the axial force per radian, scaled by 12/h^2)
         self.fixes_z = tuple(e.fixes_z for e in sc.ends)
         self.z_constraint = all(self.fixes_z)
+        #: the end whose z stays at its reference's (held without a prescribed displacement;
+        #: the first where none or both are): the other's z is it -+ I
+        self.anchor = 1 if (self.fixes_z[1] and sc.ends[1].displacement is None
+                            and not (self.fixes_z[0] and sc.ends[0].displacement is None)) \
+            else 0
+        #: the parameter of the last evaluation (a prescribed displacement's value there)
+        self._p = 0.0
         self.n_full = off_f + E * q + (1 if self.z_constraint else 0)
         self.idx = np.concatenate([node, off_lam + lam_node, off_r + node,
                                    off_f + np.arange(E * q).reshape(E, q)], axis=1)
@@ -691,7 +698,7 @@ class RitzSystem:
         (-Q_z z at each end, z eliminated through I where one end holds it), and dc/dp: an
         end holding z fixes the other's z(L) = z(0) - I."""
         (Qa, dQa), (Qb, dQb) = loads
-        if self.fixes_z[1] and not self.fixes_z[0]:
+        if self.anchor == 1:
             return -Qa[1], -dQa[1]             # z(0) = z(L) + I: potential -Q_a I
         return Qb[1], dQb[1]                   # z(L) = z(0) - I: potential +Q_b I
 
@@ -710,13 +717,28 @@ class RitzSystem:
         H[..., 0, 2] = H[..., 2, 0] = cs * w
         return float(np.sum(Lam * sn * w)), g, H
 
+    def _prescribed(self, end, p) -> tuple[float, float]:
+        """(displacement, d/dp) prescribed at ``end`` (zeros where none is)."""
+        d = self.scene.ends[end].displacement
+        return (0.0, 0.0) if d is None else (float(d(p)), _derivative(d, p))
+
     def _z_first(self, I):
-        """The height of the first end: its reference's where it is held (or where no end
-        holds z: the first end is then the pinned one), else the second's plus I."""
+        """The height of the first end: its reference's where it anchors z (or where no end
+        holds z: the first end is then the pinned one; plus its prescribed displacement where
+        both ends are displaced), else the second's plus I."""
         z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
-        if self.fixes_z[1] and not self.fixes_z[0]:
+        if self.anchor == 1:
             return z0b + I
-        return z0a
+        return z0a + self._prescribed(0, self._p)[0]
+
+    def _z_residual(self, I, k) -> tuple[float, float]:
+        """The axial constraint's row where both ends hold z, 2 pi k (z(0) - z(L) - I) with
+        each end at its reference's height plus its prescribed displacement, and its
+        p-derivative."""
+        (da, dda), (db, ddb) = (self._prescribed(end, self._p) for end in (0, 1))
+        z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
+        return (2 * math.pi * k * (z0a + da - z0b - db - I),
+                2 * math.pi * k * (dda - ddb))
 
     # --- the system -----------------------------------------------------------------------
     def evaluate(self, U, p):
@@ -726,6 +748,7 @@ class RitzSystem:
 
         sc, q, nq, E = self.scene, self.q, self.nq, self.E
         _, _, wq, _, wc, BE, BC = _element(q, nq)
+        self._p = float(p)
         V, Uc, F, dF, P, dP = self._points(U, p)
         self.evaluations += 1
         self.bvp.evaluations += 1
@@ -778,9 +801,8 @@ class RitzSystem:
             return self._reduced_system(U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE)
         rows, cols, vals = [self._rows], [self._cols], [H.ravel()[self._keep]]
         if self.z_constraint:
-            # d L / d fz = 2 pi k (z0a - z0b - I); its cross terms -2 pi k dI/dU
-            z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
-            Rf[-1] = 2 * math.pi * k * (z0a - z0b - I)
+            # d L / d fz = 2 pi k (z(0) - z(L) - I); its cross terms -2 pi k dI/dU
+            Rf[-1], Rpf[-1] = self._z_residual(I, k)
             dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
                              self.n_full)
             col = self._where[-1]
@@ -814,8 +836,7 @@ class RitzSystem:
         c_ = np.broadcast_to(self.idx[:, None, :], (E, m, m)).ravel()
         rows, cols, vals = [r], [c_], [H.ravel()]
         if self.z_constraint:
-            z0a, z0b = float(self.reference_ends[0][1]), float(self.reference_ends[1][1])
-            Rf[-1] = 2 * math.pi * k * (z0a - z0b - I)
+            Rf[-1], Rpf[-1] = self._z_residual(I, k)
             dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
                              self.n_full)
             sel = np.flatnonzero(dI[:-1] != 0)
@@ -862,7 +883,7 @@ class RitzSystem:
         dI = np.bincount(self.idx.ravel(), np.einsum("gkn,egk->en", BE, gI).ravel(),
                          self.n_full)
         ends = self._end_values(xfull, I)
-        held_second = self.fixes_z[1] and not self.fixes_z[0]
+        held_second = self.anchor == 1
         dz = ((1.0 if held_second else 0.0), (0.0 if held_second else -1.0))
         value, grad = 0.0, np.zeros(self.n_full)
         for coef, comp, end in sc.monitor_terms:
@@ -971,7 +992,7 @@ class RitzSystem:
         if self.z_constraint:
             return -self.scene.h ** 2 / 12 * float(self.full(U)[-1])
         (Qa, _), (Qb, _) = self._end_loads(p)
-        return -Qa[1] if self.fixes_z[1] and not self.fixes_z[0] else Qb[1]
+        return -Qa[1] if self.anchor == 1 else Qb[1]
 
     def profile(self, U, p):
         """A callable s -> (6, n): the BVP's unknowns (r, z, theta, m, f_r, f_z) of this
@@ -1043,6 +1064,7 @@ class RitzSystem:
                          (sc.material_parameter, sc.h))
         M = -gw[:, 2] * K.area_factor(F) / Lv
         F_r = sc.h ** 2 / 12 * self.interpolate(f, s, at="collocation")
+        self._p = float(p)                 # (a prescribed displacement's value in z)
         z, z0 = self._z(th, Lam, s)
         return dict(s=s, r=rv, z=z, theta=thv, X=X, F=F[:4], t=F[K.THICKNESS], M=M, F_r=F_r,
                     F_z=self._axial_force(U, p) + 0.0 * s, gw=gw, Hw=Hw, z_pole=z0)
