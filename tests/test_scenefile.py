@@ -223,7 +223,7 @@ BAD = [
     ('[ends]', '[solver]\nmonitor = "uz(third)"\n[ends]', "solver.monitor: monitor 'uz(third)'"),
     ('[material]', 'x = = 1\n[material]', "not a TOML file: "),
     ('pressure = "p"', 'pressure = "p"\npole = "second"',
-     "loads.pole: names the pole of a pole_force, and there is none"),
+     "loads.pole: names the pole of a pole_force or pole_displacement, and there is none"),
     ('pressure = "p"', 'pole_force = "p"\npole = "second"',
      "loads.pole: the second end is not a pole (on the axis); the poles are: first"),
 ]
