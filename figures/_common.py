@@ -88,3 +88,22 @@ def print_summary(result: dict, drop=("curves",)) -> None:
     import json
 
     print(json.dumps({k: v for k, v in result.items() if k not in drop}))
+
+
+def scene_with_thickness(path: Path, t_file: float, t: float):
+    """The scene file ``path`` (its line ``thickness = t_file``) loaded with the thickness t
+    instead, from a temporary copy: one file, several thicknesses."""
+    import tempfile
+
+    import shellbvp
+
+    text = path.read_text()
+    key = f"thickness = {t_file}"
+    if text.count(key) != 1:
+        raise RuntimeError(f"{path.name}: expected one line '{key}'")
+    if t == t_file:
+        return shellbvp.load_scene(path)
+    with tempfile.TemporaryDirectory() as d:
+        copy = Path(d) / path.name
+        copy.write_text(text.replace(key, f"thickness = {t!r}"))
+        return shellbvp.load_scene(copy)

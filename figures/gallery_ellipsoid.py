@@ -39,13 +39,12 @@ from __future__ import annotations
 import csv
 import math
 import sys
-import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 
 from _common import HERE, finish, parser, pyplot, print_summary, write_csv
+from _common import scene_with_thickness as _scene_with_thickness
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "ellipsoid-pressure.toml"
@@ -94,19 +93,8 @@ def read_published() -> dict:
 
 
 def scene_with_thickness(t: float):
-    """The scene file with its thickness set to t (mm): a copy, loaded."""
-    import shellbvp
-
-    text = SCENE.read_text()
-    key = f"thickness = {T_FILE}"
-    if text.count(key) != 1:
-        raise RuntimeError(f"{SCENE.name}: expected one line '{key}'")
-    if t == T_FILE:
-        return shellbvp.load_scene(SCENE)
-    with tempfile.TemporaryDirectory() as d:
-        path = Path(d) / SCENE.name
-        path.write_text(text.replace(key, f"thickness = {t!r}"))
-        return shellbvp.load_scene(path)
+    """The scene file with its thickness set to t (mm)."""
+    return _scene_with_thickness(SCENE, T_FILE, t)
 
 
 def compare(t: float) -> dict:
