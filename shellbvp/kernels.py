@@ -125,10 +125,6 @@ def disk_key(functions, *parts) -> str | None:
     return repr((package_source(), tuple(names), parts))
 
 
-def _end_loads(end):
-    return end.loads
-
-
 @per_scene
 def kernel_key(scene, log_poles) -> tuple:
     """Everything the traced code of a scene depends on (so that scenes equal in it share
@@ -139,7 +135,7 @@ def kernel_key(scene, log_poles) -> tuple:
     segs = scene.piece_segments
     geometry = tuple((type(geo.segments[k]).__name__, geo.segments[k].trace_key(),
                       float(geo.segment_starts[k]), float(geo.theta_offsets[k])) for k in segs)
-    ends = tuple((e.kind, _end_loads(e)) for e in scene.ends)
+    ends = tuple((e.kind, e.loads) for e in scene.ends)
     return (scene.model, scene.material, scene.through_thickness_stimulus,
             bool(scene.metric), scene.varying_thickness, scene.fields,
             scene.through_thickness, scene.thickness, scene.pressure, geometry, ends,
@@ -196,7 +192,7 @@ def _build(scene, log_poles, key) -> Kernels:
     pf = point_functions(scene.model, scene.material, scene.through_thickness_stimulus,
                          bool(scene.metric), scene.varying_thickness)
     functions = (scene.fields, scene.through_thickness, scene.thickness, scene.pressure,
-                 *[f for e in scene.ends for f in _end_loads(e)])
+                 *[f for e in scene.ends for f in e.loads])
     base = disk_key(functions, *key[:5], *key[9:])
     P = scene.pieces
     geo = scene.geometry
@@ -205,7 +201,7 @@ def _build(scene, log_poles, key) -> Kernels:
     kinds = tuple(e.kind for e in scene.ends)
     terms = tuple(scene.monitor_terms)
     pinned = scene.pinned
-    loads = tuple(_end_loads(e) for e in scene.ends)
+    loads = tuple(e.loads for e in scene.ends)
     end_piece = (0, P - 1)
     end_segment = (geo.segments[segs[0]], geo.segments[segs[-1]])
     end_start = (float(geo.segment_starts[segs[0]]), float(geo.segment_starts[segs[-1]]))

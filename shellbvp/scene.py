@@ -35,7 +35,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import cached_property, lru_cache, wraps
 from typing import Callable
 
 import numpy as np
@@ -120,14 +120,22 @@ def per_scene(fn):
     value is computed afresh."""
     cached = lru_cache(maxsize=256)(fn)
 
+    @wraps(fn)
     def wrapper(scene, *args):
         try:
             return cached(scene, *args)
         except TypeError:                   # unhashable: no cache
             return fn(scene, *args)
 
-    wrapper.__doc__, wrapper.__name__, wrapper.__wrapped__ = fn.__doc__, fn.__name__, fn
     return wrapper
+
+
+def load_rate(load, p) -> float:
+    """d load / dp at p (a load is a function of the parameter traced by JAX, as the
+    compiled programs trace it)."""
+    from .jaxsetup import jax
+
+    return float(jax.jvp(lambda x: load(x) + 0.0 * x, (float(p),), (1.0,))[1])
 
 
 def _constant(value):
@@ -191,6 +199,21 @@ class End:
     @property
     def fixes_z(self) -> bool:
         return self.kind in FIXES_Z or self.displacement is not None
+
+    def conjugate(self, p, r0, rate=False) -> np.ndarray:
+        """The loads on this end as the conjugate forces per radian (Q_r, Q_z, Q_theta) of
+        the end's r, z and theta at p (their p-derivatives where ``rate``): a line load per
+        unit reference length times the end's reference radius r0, Q_theta = -moment r0 (a
+        counterclockwise moment turns theta negatively), and a pole's point force over
+        2 pi in Q_z."""
+        value = load_rate if rate else (lambda load, x: float(load(x)))
+        Q = np.zeros(3)
+        for name, j, factor in (("radial", 0, r0), ("axial", 1, r0), ("moment", 2, -r0),
+                                ("force", 1, 1.0 / (2.0 * math.pi))):
+            load = getattr(self, name)
+            if load is not None:
+                Q[j] += factor * value(load, p)
+        return Q
 
     @property
     def loaded(self) -> bool:
@@ -409,6 +432,14 @@ class Scene:
         translation where no end fixes z (the first; its axial force is then a reaction,
         zero when the loads balance), or None."""
         return None if any(e.fixes_z for e in self.ends) else 0
+
+    @cached_property
+    def z_anchor(self) -> int:
+        """The end (0 first, 1 second) whose axial position stays at its reference's: one
+        held without a prescribed displacement, the first where none or both are; the
+        other end's z is it -+ the meridian's drop."""
+        held = [e.fixes_z and e.displacement is None for e in self.ends]
+        return 1 if held[1] and not held[0] else 0
 
     @cached_property
     def monitor_terms(self) -> tuple:

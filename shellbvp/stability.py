@@ -138,11 +138,10 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     ref = [geo.at_end(which) for which in ("first", "second")]
     kinds = tuple(e.kind for e in sc.ends)
     pole_first = kinds[0] == "pole"
-    loads = _end_loads(sc, eq.p, ref)
-    # the end whose z stays at its reference's (held, no prescribed displacement): the
-    # other's z is it -+ the drop; the prescribed displacements at p
-    held = [e.fixes_z and e.displacement is None for e in sc.ends]
-    held_second = held[1] and not held[0]
+    loads = [end.conjugate(eq.p, float(r[0])) for end, r in zip(sc.ends, ref)]
+    # the end whose z stays at its reference's: the other's z is it -+ the drop; the
+    # prescribed displacements at p
+    held_second = sc.z_anchor == 1
     moved = [0.0 if e.displacement is None else float(e.displacement(eq.p)) for e in sc.ends]
 
     def shape(v):
@@ -230,23 +229,6 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     return SecondVariation(eigenvalues=vals, s=s.ravel(), theta_modes=modes[:n].T,
                            lam1_modes=modes[n:2 * n].T, nodes=int(N),
                            projected_gradient=float(np.linalg.norm(Z.T @ grad)))
-
-
-def _end_loads(scene, p, ref) -> tuple:
-    """Per end, its line loads' conjugate forces per radian (Q_r, Q_z, Q_theta) at p: the
-    load per unit reference length times r0 there, Q_theta = -moment r0 (a counterclockwise
-    moment turns theta negatively); a pole's point force adds force / 2 pi to Q_z."""
-    out = []
-    for k, end in enumerate(scene.ends):
-        r0 = float(ref[k][0])
-        Q = []
-        for name, sign in (("radial", 1.0), ("axial", 1.0), ("moment", -1.0)):
-            load = getattr(end, name)
-            Q.append(0.0 if load is None else sign * r0 * float(load(p)))
-        if end.force is not None:              # a pole's point force, per radian
-            Q[1] += float(end.force(p)) / (2 * math.pi)
-        out.append(tuple(Q))
-    return tuple(out)
 
 
 def stable_point(system, pt) -> str:

@@ -59,6 +59,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..scene import load_rate
 from .chebyshev import chebyshev_points, differentiation_matrix
 
 __all__ = ["Ritz", "RitzSystem", "MIN_DEGREE", "MAX_DEGREE", "REFINE_STEP"]
@@ -193,14 +194,6 @@ def singular_poles(scene) -> tuple:
 def singular_apex(scene) -> bool:
     """Whether the first end is a pole where the target is singular (:func:`singular_poles`)."""
     return singular_poles(scene)[0]
-
-
-def _derivative(load, p) -> float:
-    """d load / dp at p (a load is a function of the parameter traced by JAX, as the
-    compiled programs trace it)."""
-    from ..jaxsetup import jax
-
-    return float(jax.jvp(lambda x: load(x) + 0.0 * x, (float(p),), (1.0,))[1])
 
 
 # --- one element: nodes, quadrature, the fixed linear maps --------------------------------
@@ -486,11 +479,8 @@ class RitzSystem:
         #: unknown (the axial force per radian, scaled by 12/h^2)
         self.fixes_z = tuple(e.fixes_z for e in sc.ends)
         self.z_constraint = all(self.fixes_z)
-        #: the end whose z stays at its reference's (held without a prescribed displacement;
-        #: the first where none or both are): the other's z is it -+ I
-        self.anchor = 1 if (self.fixes_z[1] and sc.ends[1].displacement is None
-                            and not (self.fixes_z[0] and sc.ends[0].displacement is None)) \
-            else 0
+        #: the end whose z stays at its reference's (:attr:`Scene.z_anchor`)
+        self.anchor = sc.z_anchor
         #: the parameter of the last evaluation (a prescribed displacement's value there)
         self._p = 0.0
         self.n_full = off_f + E * q + (1 if self.z_constraint else 0)
@@ -675,23 +665,10 @@ class RitzSystem:
 
     # --- end loads and the axial position -------------------------------------------------
     def _end_loads(self, p):
-        """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) of its line loads (and
-        of a pole's point force, Q_z = force / 2 pi) at p and their p-derivatives: Q = load
-        per unit reference length x r0 there, Q_theta
-        = -moment r0 (a counterclockwise moment turns theta negatively)."""
-        out = []
-        for k, end in enumerate(self.scene.ends):
-            r0 = float(self.reference_ends[k][0])
-            Q, dQ = np.zeros(3), np.zeros(3)
-            # (load, its component, its factor): a pole's point force is axial, per radian
-            for name, j, factor in (("radial", 0, r0), ("axial", 1, r0), ("moment", 2, -r0),
-                                    ("force", 1, 1.0 / (2.0 * math.pi))):
-                load = getattr(end, name)
-                if load is not None:
-                    Q[j] += factor * float(load(p))
-                    dQ[j] += factor * _derivative(load, p)
-            out.append((Q, dQ))
-        return out
+        """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) at p and their
+        p-derivatives (:meth:`End.conjugate`)."""
+        return [(end.conjugate(p, float(ref[0])), end.conjugate(p, float(ref[0]), rate=True))
+                for end, ref in zip(self.scene.ends, self.reference_ends)]
 
     def _drop_coefficient(self, loads):
         """The coefficient c of I = int Lambda sin(theta) ds in the end loads' potential
@@ -720,7 +697,7 @@ class RitzSystem:
     def _prescribed(self, end, p) -> tuple[float, float]:
         """(displacement, d/dp) prescribed at ``end`` (zeros where none is)."""
         d = self.scene.ends[end].displacement
-        return (0.0, 0.0) if d is None else (float(d(p)), _derivative(d, p))
+        return (0.0, 0.0) if d is None else (float(d(p)), load_rate(d, p))
 
     def _z_first(self, I):
         """The height of the first end: its reference's where it anchors z (or where no end
@@ -1171,7 +1148,7 @@ class RitzSystem:
         R, J, _ = self.evaluate(U, p)
         J = J.toarray()
         q = self.q
-        off_f, nodes = self.offsets[3], self.offsets[4]
+        nodes = self.offsets[4]
         primal = self.kind < 3
         K, A = J[np.ix_(primal, primal)], J[np.ix_(~primal, primal)]
         # Jacobi scaling (a congruence: the inertia, so the stability, is unchanged): the
