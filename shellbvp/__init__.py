@@ -7,7 +7,7 @@ Public API (this module; everything else is reached through its submodules)
 Energies (paper Sections 2-4; derived symbolically from the 3D densities)
     energy_density, energy_terms, EnergyTerms, MODELS, MATERIALS
 Problem (scenes as data)
-    Scene, End, ReferencePoint, cap, uniform_curvature; the reference geometry: Meridian and
+    Scene, End, Ring, ReferencePoint, cap, uniform_curvature; the reference geometry: Meridian and
     its segments Plate, Cylinder, Cone, Sphere, Torus, Ellipse, Points, with spherical_cap,
     closed_sphere, disc, annulus, cylinder
 Methods (discretisations behind one protocol, :mod:`shellbvp.methods`)
@@ -51,7 +51,7 @@ from .models import MATERIALS, MODELS
 from .results import Branch, Equilibrium, Fold
 from .geometry import (Cone, Cylinder, Ellipse, Meridian, Plate, Points, Sphere, Torus,
                        annulus, closed_sphere, cylinder, disc, spherical_cap)
-from .scene import End, ReferencePoint, Scene, cap, uniform_curvature
+from .scene import End, ReferencePoint, Ring, Scene, cap, uniform_curvature
 from .scenefile import SceneFile, load_scene
 from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
@@ -65,7 +65,7 @@ except PackageNotFoundError:        # a source tree that is not installed
 
 __all__ = [
     "energy_density", "energy_terms", "EnergyTerms", "MODELS", "MATERIALS",
-    "Scene", "End", "ReferencePoint", "cap", "uniform_curvature", "load_scene", "SceneFile",
+    "Scene", "End", "Ring", "ReferencePoint", "cap", "uniform_curvature", "load_scene", "SceneFile",
     "Meridian", "Plate", "Cylinder", "Cone", "Sphere", "Torus", "Ellipse", "Points",
     "spherical_cap", "closed_sphere", "disc", "annulus", "cylinder",
     "Chebyshev", "Shooting", "Collocation", "Ritz", "as_method",

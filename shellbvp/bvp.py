@@ -34,6 +34,9 @@ moment and forces, so that bending and membrane unknowns have the same size):
   length times r0), ``clamped`` (r, z, theta at the reference's values), ``hinged`` (r, z;
   m given), ``roller`` (z; f_r, m given), ``symmetry`` (theta at the reference's, f_r = 0,
   f_z given), and at the pinned end z at its reference height in place of f_z;
+* **rings** (:class:`shellbvp.scene.Ring`), dead forces on circles of the meridian: each
+  is an interface across which (f_r, f_z) jump by -(12/h^2) Q, Q its total force per
+  radian (:meth:`ShellBVP.jumps_at`);
 * **load**: a scene's uniform pressure (``Scene.pressure``) enters the compiled equations as
   a field beside the stimulus, through its potential P V (:mod:`shellbvp.euler_lagrange`);
 * **monitor**, the branch observable (:attr:`shellbvp.Scene.monitor_terms`): by default the
@@ -160,6 +163,7 @@ class ShellBVP(Derivatives, MeridianStates):
         self.b = np.concatenate([ends[1:-1], [self.s_b]])
         self.P = scene.pieces
         self.jumps = interface_jumps(scene)
+        self._fixed_jumps = (self.jumps, np.zeros_like(self.jumps))
         self.scale = scene.monitor_scale
         problem = untraceable(scene)
         if problem:
@@ -393,11 +397,22 @@ class ShellBVP(Derivatives, MeridianStates):
                                            self.poles, self._refs, self.scale, np)
         return float(m), ga, gb
 
-    def interface_rows(self, Y):
-        """y(a_{i+1}) - y(b_i) - jump_i at every interface, (P - 1, 6), from states Y
-        (P, 6, m) whose first and last nodes are the piece ends."""
-        Y = np.asarray(Y, dtype=float)
-        return Y[1:, :, 0] - Y[:-1, :, -1] - self.jumps
+    def ring_jumps(self, p, order: int = 0) -> np.ndarray:
+        """(P - 1, 6): the rings' part of the jumps across the interfaces at p (its
+        ``order``-th derivative in p): f_r and f_z jump by -(12/h^2) Q at a ring carrying
+        Q per radian (:class:`shellbvp.scene.Ring`), the corner condition of its potential."""
+        sc = self.scene
+        out = np.zeros((self.P - 1, 6))
+        for ring, i in zip(sc.rings, sc.ring_interfaces):
+            out[i, 4:6] -= 12.0 / sc.h ** 2 * ring.conjugate(p, order)
+        return out
+
+    def jumps_at(self, p) -> tuple[np.ndarray, np.ndarray]:
+        """The jumps across the interfaces at p, (P - 1, 6) (:attr:`jumps`, the rigid
+        joints' angles, plus the rings' forces) and their p-derivative."""
+        if not self.scene.rings:
+            return self._fixed_jumps
+        return self.jumps + self.ring_jumps(p), self.ring_jumps(p, 1)
 
     def vector_field(self):
         """The traceable point function (piece, s, y, p, material_parameter, h) -> f (6,),

@@ -27,7 +27,9 @@ axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller`` or ``symmetr
 given line loads where they are free to move. An axisymmetric shell has one rigid motion
 its unknowns see, the axial translation; a scene whose ends do not fix the axial position
 has it removed by holding the first end's z (:attr:`Scene.pinned`), with the axial force
-there left free: it is zero when the loads balance, as they must for a free body.
+there left free: it is zero when the loads balance, as they must for a free body. Ring
+loads (:class:`Ring`) are dead forces on circles of the meridian, each an interface of the
+pieces across which the meridional force resultants jump.
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ from .fields import ReferencePoint, point_fields
 from .geometry import Meridian, spherical_cap
 from .models import MATERIAL_PARAMETER, MATERIALS, MODELS, material_parameter
 
-__all__ = ["Scene", "End", "ReferencePoint", "END_KINDS", "uniform_curvature", "lam_max",
+__all__ = ["Scene", "End", "Ring", "ReferencePoint", "END_KINDS", "uniform_curvature", "lam_max",
            "cap"]
 
 #: smallest opening angle of a cap (:func:`cap`): the rise 1 - cos Theta ~ Theta^2/2 keeps
@@ -130,12 +132,15 @@ def per_scene(fn):
     return wrapper
 
 
-def load_rate(load, p) -> float:
-    """d load / dp at p (a load is a function of the parameter traced by JAX, as the
-    compiled programs trace it)."""
+def load_rate(load, p, order: int = 1) -> float:
+    """The ``order``-th derivative of a load in p at p (a load is a function of the
+    parameter traced by JAX, as the compiled programs trace it; order 0 its value)."""
     from .jaxsetup import jax
 
-    return float(jax.jvp(lambda x: load(x) + 0.0 * x, (float(p),), (1.0,))[1])
+    f = lambda x: load(x) + 0.0 * x             # noqa: E731  (a constant load traces too)
+    for _ in range(order):
+        f = (lambda g: lambda x: jax.jvp(g, (x,), (1.0,))[1])(f)
+    return float(f(float(p)))
 
 
 def _constant(value):
@@ -200,19 +205,18 @@ class End:
     def fixes_z(self) -> bool:
         return self.kind in FIXES_Z or self.displacement is not None
 
-    def conjugate(self, p, r0, rate=False) -> np.ndarray:
+    def conjugate(self, p, r0, order: int = 0) -> np.ndarray:
         """The loads on this end as the conjugate forces per radian (Q_r, Q_z, Q_theta) of
-        the end's r, z and theta at p (their p-derivatives where ``rate``): a line load per
+        the end's r, z and theta at p (their ``order``-th p-derivatives): a line load per
         unit reference length times the end's reference radius r0, Q_theta = -moment r0 (a
         counterclockwise moment turns theta negatively), and a pole's point force over
         2 pi in Q_z."""
-        value = load_rate if rate else (lambda load, x: float(load(x)))
         Q = np.zeros(3)
         for name, j, factor in (("radial", 0, r0), ("axial", 1, r0), ("moment", 2, -r0),
                                 ("force", 1, 1.0 / (2.0 * math.pi))):
             load = getattr(self, name)
             if load is not None:
-                Q[j] += factor * value(load, p)
+                Q[j] += factor * load_rate(load, p, order)
         return Q
 
     @property
@@ -223,6 +227,57 @@ class End:
     def loads(self) -> tuple:
         """The load functions in :data:`LOAD_NAMES` order (None where not given)."""
         return tuple(getattr(self, n) for n in LOAD_NAMES)
+
+
+@dataclass(frozen=True)
+class Ring:
+    """Forces on the circle at arclength s of the reference meridian, a dead load: an exact
+    interface of the pieces, across which the meridional force resultants jump by the load
+    (F(s+) - F(s-) = -Q per radian: the corner condition of the potential -Q . x(s)).
+
+    Attributes:
+        s: the circle's arclength on the reference meridian, inside (0, L): an end's loads
+            are its :class:`End`'s. On a joint of the geometry or a break of the fields
+            (to 1e-9 L) it loads that interface.
+        axial: the total force along +z (2 pi r0 times the line load per unit reference
+            length; per mu* h R), a function of the parameter p, a number or None (zero).
+        radial: the total outward force, 2 pi r0 times the outward line load (per mu* h R),
+            a function of p, a number or None.
+    """
+
+    s: float
+    axial: Callable | float | None = None
+    radial: Callable | float | None = None
+
+    def __post_init__(self):
+        checks.check_finite("ring s", self.s)
+        object.__setattr__(self, "s", float(self.s))
+        for name in RING_LOADS:
+            value = getattr(self, name)
+            if isinstance(value, (int, float, np.floating, np.integer)):
+                checks.check_finite(f"ring {name}", value)
+                object.__setattr__(self, name, _constant(value))
+            elif value is not None and not callable(value):
+                raise ValueError(f"ring {name} load must be a number or a function of the "
+                                 f"parameter, got {type(value).__name__}")
+        if self.axial is None and self.radial is None:
+            raise ValueError(f"the ring at s = {self.s:g} carries no load: give axial or "
+                             f"radial")
+
+    def conjugate(self, p, order: int = 0) -> np.ndarray:
+        """(Q_r, Q_z): the total forces per radian at p (their ``order``-th derivatives in
+        p), the conjugates of the circle's r and z."""
+        return np.array([0.0 if f is None else load_rate(f, p, order) / (2.0 * math.pi)
+                         for f in (self.radial, self.axial)])
+
+    @property
+    def loads(self) -> tuple:
+        """The load functions in :data:`RING_LOADS` order (None where not given)."""
+        return tuple(getattr(self, n) for n in RING_LOADS)
+
+
+#: a ring's loads, in the order of :attr:`Ring.loads`
+RING_LOADS = ("axial", "radial")
 
 
 def _as_end(value, which) -> End:
@@ -277,6 +332,8 @@ class Scene:
             (the default: the axial displacement of the end that does not fix z relative
             to the one that does; where both fix z, the radial displacement or rotation of
             an end free to make it; :attr:`monitor_terms`).
+        rings: :class:`Ring` loads on circles of the meridian (dead forces), at distinct s
+            inside (0, L); kept sorted by s.
     """
 
     geometry: Meridian
@@ -296,6 +353,7 @@ class Scene:
     pressure: Callable | None = None
     field_parameters: tuple = ()
     monitor: str | None = None
+    rings: tuple = ()
 
     @property
     def material_parameter(self) -> float:
@@ -367,8 +425,29 @@ class Scene:
             raise ValueError(f"field_parameters must be a tuple of finite numbers, got "
                              f"{self.field_parameters!r}")
         object.__setattr__(self, "field_parameters", tuple(float(x) for x in c))
+        self._check_rings(geo)
         if self.monitor is not None:
             self.monitor_terms            # parses and checks the monitor
+
+    def _check_rings(self, geo):
+        if not (isinstance(self.rings, (tuple, list))
+                and all(isinstance(r, Ring) for r in self.rings)):
+            raise ValueError(f"rings must be a tuple of shellbvp.Ring, got {self.rings!r}")
+        L = geo.length
+        rings = sorted(self.rings, key=lambda r: r.s)
+        for ring in rings:
+            if not 0.0 < ring.s < L:
+                raise ValueError(f"ring s = {ring.s:g} lies outside the meridian's interior "
+                                 f"(0, {L:.6g}): a load on an end is that End's (axial, "
+                                 f"radial; force at a pole)")
+            if min(ring.s, L - ring.s) <= 1e-9 * L:
+                raise ValueError(f"ring s = {ring.s:g} lies on an end of the meridian "
+                                 f"(to 1e-9 L): give the load as that End's")
+        for a, b in zip(rings[:-1], rings[1:]):
+            if b.s - a.s <= 1e-9 * L:
+                raise ValueError(f"rings: two at s = {a.s:g}; give one ring with the sum of "
+                                 f"their loads")
+        object.__setattr__(self, "rings", tuple(rings))
 
     def _check_ends(self, geo):
         if self.ends is None:
@@ -483,9 +562,18 @@ class Scene:
 
     @cached_property
     def interfaces(self) -> np.ndarray:
-        """Every interior interface of the pieces, in s: the joints of the geometry and the
-        breaks of the fields, merged."""
-        return np.array(sorted(tuple(float(j) for j in self.geometry.joints) + self.breaks))
+        """Every interior interface of the pieces, in s: the joints of the geometry, the
+        breaks of the fields and the rings' circles, merged."""
+        known = sorted(tuple(float(j) for j in self.geometry.joints) + self.breaks)
+        tol = 1e-9 * self.length
+        extra = [r.s for r in self.rings if not any(abs(r.s - x) <= tol for x in known)]
+        return np.array(sorted(known + extra))
+
+    @cached_property
+    def ring_interfaces(self) -> tuple:
+        """The interface (index into :attr:`interfaces`) each ring of :attr:`rings` loads."""
+        x = self.interfaces
+        return tuple(int(np.argmin(np.abs(x - r.s))) for r in self.rings)
 
     @cached_property
     def pieces(self) -> int:

@@ -27,7 +27,8 @@ value along the meridian where it varies), a quantity of the file becomes inside
 - a pressure p (force/length^2): P = p L / (mu h);
 - a line force q (force/length): q / (mu h);
 - a line moment m (force length/length): m / (mu h L);
-- a point force F (force): F / (mu h L); a pole's prescribed displacement: d / L;
+- a point force F (force), a ring's total force: F / (mu h L); a pole's prescribed
+  displacement: d / L;
 - an energy E (modulus length^3 = force length): E / (mu h L^2).
 
 Expressions are evaluated in the file's units: they see s, r, z, k1_ref, k2_ref as the
@@ -66,7 +67,7 @@ import numpy as np
 from .expressions import CONSTANTS, FUNCTIONS, Expression, parse
 from .geometry import Cone, Cylinder, Ellipse, Meridian, Plate, Points, Sphere, Torus
 from .models import MODELS
-from .scene import END_KINDS, H_MIN, LOADS_OF, End, Scene, curvature_radius
+from .scene import END_KINDS, H_MIN, LOADS_OF, End, Ring, Scene, curvature_radius
 
 __all__ = ["load_scene", "SceneFile", "SceneBranch", "SceneInstability", "Observable",
            "Units", "PointFunction", "LoadFunction", "example", "examples", "METHOD_NAMES"]
@@ -819,12 +820,13 @@ def _read(data: dict, source: str) -> SceneFile:
     stimulus = _stimulus(top, meridian, units, param)
     pressure = _pressure(top, units, param)
     ends = _pole_force(top, meridian, units, param, _ends(top, meridian, units, param))
+    rings = _rings(top, meridian, units, param)
     method, tol, monitor = _solver(top, stop - start, scale)
     observables = _observables(top, units, meridian, parameter)
     try:
         scene = Scene(geometry=meridian, h=h_user / L, ends=ends, thickness=thickness,
                       pressure=pressure, parameter=f"t_{parameter}", monitor=monitor,
-                      **material, **stimulus)
+                      rings=rings, **material, **stimulus)
     except ValueError as exc:
         raise ValueError(f"{_scene_key(str(exc))}: {_one_line(exc)}") from None
     return SceneFile(source, title, scene, parameter, start, stop, scale, folds, method, tol,
@@ -837,7 +839,8 @@ def _scene_key(message: str) -> str:
     first = message.split(" ", 1)[0]
     return {"lam": "material.lam", "nu": "material.nu", "model": "material.reduction",
             "h": "geometry.thickness", "breaks": "stimulus.breaks",
-            "monitor": "solver.monitor"}.get(first, "scene")
+            "monitor": "solver.monitor", "ring": "loads.rings",
+            "rings:": "loads.rings"}.get(first, "scene")
 
 
 def _parameter(top):
@@ -1010,7 +1013,7 @@ def _load(value, key, factor, param) -> LoadFunction:
     return fn
 
 
-LOAD_KEYS = ("pressure", "pole_force", "pole_displacement", "pole")
+LOAD_KEYS = ("pressure", "pole_force", "pole_displacement", "pole", "rings")
 
 
 def _pressure(top, units, param):
@@ -1049,6 +1052,43 @@ def _pole_force(top, meridian, units, param, ends):
     k = ("first", "second").index(which)
     field_ = "force" if key == "pole_force" else "displacement"
     return tuple(replace(e, **{field_: fn}) if i == k else e for i, e in enumerate(ends))
+
+
+def _rings(top, meridian, units, param) -> tuple:
+    """``[loads] rings = [{ s = ..., axial = "...", radial = "..." }, ...]``: total forces
+    (the file's force unit; 2 pi r times a line load) on the circles at arclength s (the
+    file's length unit) of the meridian, as :class:`shellbvp.Ring`."""
+    t = top.table("loads", LOAD_KEYS)
+    if "rings" not in t:
+        return ()
+    entries = t.raw("rings")
+    if not isinstance(entries, list) or not entries:
+        raise ValueError(f"loads.rings: expected a list of rings ({{ s = ..., axial = ..., "
+                         f"radial = ... }}), got {_describe(entries)}")
+    L = meridian.length * units.length
+    out = []
+    for k, entry in enumerate(entries):
+        r = _Table(entry, f"loads.rings[{k}]", ("s", "axial", "radial"))
+        s = r.number("s")
+        if not 0.0 < s < L:
+            raise ValueError(f"loads.rings[{k}].s: must lie inside the meridian, (0, {L:.6g})"
+                             f" (its arclength in the file's length unit; a load on an end "
+                             f"is that end's), got {s:g}")
+        if "axial" not in r and "radial" not in r:
+            raise ValueError(f"loads.rings[{k}]: give axial, radial or both (total forces)")
+        loads = {name: _load(r.raw(name), f"loads.rings[{k}].{name}",
+                             1.0 / units.point_force, param)
+                 for name in ("axial", "radial") if name in r}
+        try:
+            out.append(Ring(s / units.length, **loads))
+        except ValueError as exc:
+            raise ValueError(f"loads.rings[{k}]: {_one_line(exc)}") from None
+    at = sorted(r.s for r in out)
+    for x, y in zip(at[:-1], at[1:]):
+        if y - x <= 1e-9 * meridian.length:
+            raise ValueError(f"loads.rings: two rings at s = {x * units.length:.6g}; give one "
+                             f"ring with the sum of their loads")
+    return tuple(out)
 
 
 #: the file's names of an end's loads -> the End's

@@ -139,9 +139,9 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     kinds = tuple(e.kind for e in sc.ends)
     pole_first = kinds[0] == "pole"
     loads = [end.conjugate(eq.p, float(r[0])) for end, r in zip(sc.ends, ref)]
-    # the end whose z stays at its reference's: the other's z is it -+ the drop; the
-    # prescribed displacements at p
-    held_second = sc.z_anchor == 1
+    # the rings: (the piece they end, (Q_r, Q_z)) at p
+    rings = [(i, ring.conjugate(eq.p)) for ring, i in zip(sc.rings, sc.ring_interfaces)]
+    anchor = sc.z_anchor          # the end whose z stays at its reference's
     moved = [0.0 if e.displacement is None else float(e.displacement(eq.p)) for e in sc.ends]
 
     def shape(v):
@@ -155,8 +155,16 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
             r_start = r_i[-1]
         return th, l1, jnp.stack(rs)
 
+    def heights(th, l1):
+        """z at the pieces' ends (P + 1,) less the anchoring end's: z' = -g1 lam1 sin(theta)
+        integrated piece by piece."""
+        d = jnp.sum(jnp.asarray(L)[:, None] * w * F[K.G1] * l1 * jnp.sin(th), axis=1)
+        drop = jnp.concatenate([jnp.zeros(1), jnp.cumsum(d)])       # int_0^s Lambda sin
+        return -drop if anchor == 0 else drop[-1] - drop
+
     def drop(th, l1):
-        return jnp.sum(jnp.asarray(L)[:, None] * w * F[K.G1] * l1 * jnp.sin(th))
+        z = heights(th, l1)
+        return z[0] - z[-1]
 
     def energy(v):
         th, l1, r = shape(v)
@@ -166,11 +174,12 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
         E = 2 * math.pi * jnp.sum(jnp.asarray(L)[:, None] * w * dens)
         load = math.pi * pressure * jnp.sum(jnp.asarray(L)[:, None] * w * r**2 * F[K.G1]
                                             * l1 * jnp.sin(th))
-        # the end loads' work: radial forces and moments on the ends' r and theta, the axial
-        # one through the drop of the end that is not held
-        ends = ((r[0, 0], th[0, 0]), (r[-1, -1], th[-1, -1]))
-        work = sum(Q[0] * ends[k][0] + Q[2] * ends[k][1] for k, Q in enumerate(loads))
-        work = work + (-loads[0][1] if held_second else loads[1][1]) * drop(th, l1)
+        # the dead loads' work Q . (r, z, theta) on the ends and the rings' circles, z
+        # relative to the anchoring end's (a constant there)
+        z = heights(th, l1)
+        ends = ((r[0, 0], z[0], th[0, 0]), (r[-1, -1], z[-1], th[-1, -1]))
+        work = sum(Q[0] * x[0] + Q[1] * x[1] + Q[2] * x[2] for Q, x in zip(loads, ends))
+        work = work + sum(Q[0] * r[i, -1] + Q[1] * z[i + 1] for i, Q in rings)
         return E + load - 2 * math.pi * work
 
     def constraints(v):
@@ -193,7 +202,8 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
                 rows.append(r[i, j] - r0)
         if all(e.fixes_z for e in sc.ends):
             rows.append(drop(th, l1) - (ref[0][1] + moved[0] - ref[1][1] - moved[1]))
-        return jnp.stack(rows)
+        # (none: a single piece whose ends hold nothing but z at one of them)
+        return jnp.stack(rows) if rows else jnp.zeros(0)
 
     # the state at the nodes, from the equilibrium's own interpolant and inner roots
     Y = np.stack([eq.unknowns(s[i]) for i in range(P)])                 # (P, 6, N + 1)
@@ -207,12 +217,12 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
     v0 = jnp.asarray(np.concatenate(parts))
     grad = np.asarray(jax.grad(energy)(v0))
     A = np.asarray(jax.jacfwd(constraints)(v0))
-    mu = np.linalg.lstsq(A.T, grad, rcond=None)[0]
+    mu = np.linalg.lstsq(A.T, grad, rcond=None)[0] if A.shape[0] else np.zeros(0)
     lagrangian = lambda v: energy(v) - jnp.dot(jnp.asarray(mu), constraints(v))  # noqa: E731
     Hess = np.asarray(jax.hessian(lagrangian)(v0))
     from scipy.linalg import eigh, null_space
 
-    Z = null_space(A)
+    Z = null_space(A) if A.shape[0] else np.eye(v0.size)
     # the mass of the surface's L2 norm (area element g1 g2 r0): with plain quadrature
     # weights a mode crowded onto a pole costs energy ~ s but keeps full mass, and the
     # smallest eigenvalue falls with the resolution for no physical reason; the first

@@ -5,6 +5,7 @@ programs of a file kept on disk for the next process."""
 
 import json
 import math
+import re
 import os
 import subprocess
 import sys
@@ -472,6 +473,35 @@ def test_a_point_force_in_newtons_on_a_plate_in_millimetres(tmp_path):
         'first = "pole"', 'first = "free"')
     with pytest.raises(ValueError, match="loads.pole_force: the meridian has no pole"):
         shellbvp.load_scene(_write(tmp_path, annulus, "annulus.toml"))
+
+
+def test_a_ring_load_in_newtons_on_a_plate_in_millimetres(tmp_path):
+    """``[loads] rings``: the clamped plate of PLATE in millimetres, a total force F (N) down
+    on the circle r = b = 100 mm: Kirchhoff's centre deflection
+    -F / (8 pi D) [(a^2 - b^2) / 2 + b^2 ln(b / a)] (Timoshenko & Woinowsky-Krieger, Sec. 19)
+    to 1e-5. A ring outside the meridian, one without a load and a misspelt key are named."""
+    a, b, h, E, nu, F = 250.0, 100.0, 2.5, 210000.0, 0.3, 1.0
+    text = (PLATE.replace("r = [0.0, 1.0]", f"r = [0.0, {a}]")
+            .replace("thickness = 0.01", f"thickness = {h}").replace("E = 1.0", f"E = {E}")
+            .replace('name = "p"', 'name = "F"').replace("to = 1.0e-6", f"to = {F}")
+            .replace('pressure = "p"', f'rings = [{{ s = {b}, axial = "-F" }}]'))
+    sf = shellbvp.load_scene(_write(tmp_path, text))
+    assert sf.scene.rings[0].s == pytest.approx(b / a)
+    last = sf.follow().last
+    D = E * h**3 / (12 * (1 - nu**2))
+    expected = -last["p"] / (8 * math.pi * D) * ((a**2 - b**2) / 2 + b**2 * math.log(b / a))
+    assert abs(last["w_centre"] / expected - 1) < 1e-5
+    for bad, message in ((f"s = {2 * a}", "loads.rings[0].s: must lie inside the meridian"),
+                         (f's = {b}, radial = "0", spin = "1"', "loads.rings[0].spin: unknown"),
+                         ):
+        with pytest.raises(ValueError, match=re.escape(message)):
+            shellbvp.load_scene(_write(tmp_path, text.replace(f"s = {b}", bad), "bad.toml"))
+    with pytest.raises(ValueError, match=re.escape("loads.rings[0]: give axial, radial")):
+        shellbvp.load_scene(_write(tmp_path, text.replace(', axial = "-F"', ""), "bad.toml"))
+    two = text.replace(f'rings = [{{ s = {b}, axial = "-F" }}]',
+                       f'rings = [{{ s = {b}, axial = "-F" }}, {{ s = {b}, radial = "F" }}]')
+    with pytest.raises(ValueError, match=re.escape("loads.rings: two rings at s = 100;")):
+        shellbvp.load_scene(_write(tmp_path, two, "two.toml"))
 
 
 def test_an_indented_plate_reports_the_indenters_force(tmp_path):

@@ -182,6 +182,8 @@ class ShellProblem(NodalBVP, Protocol):
     #: (P - 1, n): the unknowns' jumps across the interfaces
     jumps: np.ndarray
 
+    def jumps_at(self, p): ...
+
     def collocate(self, s, Y, p, hint=None): ...
 
     def round_off(self, p: float) -> float: ...
@@ -345,6 +347,8 @@ class NodalSystem:
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
         eye = np.eye(n) if P > 1 else None
+        jumps, jumps_p = self.bvp.jumps_at(p) if self._shell \
+            else (self.jumps, np.zeros_like(self.jumps))
         # (row offset, columns, block) triplets, then one assembly: an n x n block on the
         # n columns of one node (a strided slice), or a block on consecutive columns (not
         # where the method wrote it in place already)
@@ -357,8 +361,8 @@ class NodalSystem:
                 parts.append((row, self.col(i, 0), Ji))
             row += n * M
             if i < P - 1:   # the interface b_i = a_{i+1}: y(b_i) + jump_i = y(a_{i+1})
-                R.append(Y[i, :, -1] + self.jumps[i] - Y[i + 1, :, 0])
-                Rp.append(np.zeros(n))
+                R.append(Y[i, :, -1] + jumps[i] - Y[i + 1, :, 0])
+                Rp.append(jumps_p[i])
                 parts.append((row, self._columns(i, M), eye))
                 parts.append((row, self._columns(i + 1, 0), -eye))
                 row += n

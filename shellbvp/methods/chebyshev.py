@@ -263,13 +263,17 @@ class ChebyshevSystem(NodalSystem):
                "material": [L[i] * df[i, ..., 1] for i in range(P)],
                "h": [L[i] * df[i, ..., 2] for i in range(P)]}
         rb = {"length": dr[:, 0], "material": dr[:, 1], "h": dr[:, 2]}
+        # the interface rows: the rings' jumps -(12/h^2) Q scale like 1/h^2 (the rings stay
+        # at their s as the length changes)
+        ring = bvp.ring_jumps(p) if bvp.scene.rings else np.zeros((P - 1, n))
+        dJ = {"length": 0.0 * ring, "material": 0.0 * ring, "h": -2.0 / bvp.scene.h * ring}
         out = {}
         for x, parts in ((x, dLf[x]) for x in names):
             rows = [rb[x]]
             for i in range(P):
                 rows.append(-(parts[i] @ self._Pm.T).ravel())
                 if i < P - 1:
-                    rows.append(np.zeros(n))     # the interface rows hold for any x
+                    rows.append(dJ[x][i])
             out[x] = (np.concatenate(rows), dm_length if x == "length" else 0.0)
         return out
 
@@ -304,6 +308,9 @@ class ChebyshevSystem(NodalSystem):
         da, db = self._end_motion()
         gU = -L[:, None, None] * dgy
         g_p = -float(np.sum(L * dgp.sum(axis=1)))
+        if bvp.scene.rings:                      # the interface rows' second p-derivative
+            rows = [n + (i + 1) * n * N + i * n for i in range(P - 1)]
+            g_p += dp * float(sum(wR[r:r + n] @ J for r, J in zip(rows, bvp.ring_jumps(p, 2))))
         g_L = -float(sum((db[i] - da[i]) * dphi[i, :, 0].sum()
                          + L[i] * np.sum((da[i] + (db[i] - da[i]) * self.t) * dgs[i])
                          for i in range(P)))

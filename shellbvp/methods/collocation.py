@@ -92,9 +92,11 @@ class Collocation:
                 J[n * i:n * i + n, n * i:n * i + n] = L[i] * nod.J[i]
             return J
 
+        jumps = bvp.jumps_at(p)[0]
+
         def bc(ya, yb):
             return np.concatenate([bvp.boundary(ya[:n], yb[-n:], p)[0]]
-                                  + [yb[n * i:n * i + n] + bvp.jumps[i]
+                                  + [yb[n * i:n * i + n] + jumps[i]
                                      - ya[n * i + n:n * i + 2 * n] for i in range(P - 1)])
 
         def bc_jac(ya, yb):

@@ -44,6 +44,10 @@ as the potential of dead loads on the end. The axial position z never enters the
 the first end to the second): an end that fixes z holds the other's position through I, an
 axial load on the other end has potential -Q z(end) (linear in I), and where both ends fix
 z the constraint I = z0(0) - z0(L) enters with its own multiplier (the axial force). A
+ring load (:class:`shellbvp.scene.Ring`) sits on an interface, a node of the mesh: its
+radial force's potential is -Q_r r there, its axial one's -Q_z z there, z from the anchoring
+end through the drops of the elements between (so each element's drop carries its own axial
+force, which jumps at the ring). A
 joint of the geometry with a kink turns theta by the reference's angle: the unknown is
 theta less the kinks passed, continuous.
 
@@ -487,6 +491,9 @@ class RitzSystem:
         self.idx = np.concatenate([node, off_lam + lam_node, off_r + node,
                                    off_f + np.arange(E * q).reshape(E, q)], axis=1)
         self.offsets = (0, off_lam, off_r, off_f, nodes, n_lam)
+        #: per ring: the first element after its interface, and its circle's r unknown
+        self.ring_elements = tuple(int(first_e[i + 1]) for i in sc.ring_interfaces)
+        self.ring_r_nodes = tuple(off_r + e * q for e in self.ring_elements)
         geo = sc.geometry
         self.reference_ends = [geo.at_end(which) for which in ("first", "second")]
         fixed = {}
@@ -667,17 +674,31 @@ class RitzSystem:
     def _end_loads(self, p):
         """Per end, the conjugate loads per radian (Q_r, Q_z, Q_theta) at p and their
         p-derivatives (:meth:`End.conjugate`)."""
-        return [(end.conjugate(p, float(ref[0])), end.conjugate(p, float(ref[0]), rate=True))
+        return [(end.conjugate(p, float(ref[0])), end.conjugate(p, float(ref[0]), 1))
                 for end, ref in zip(self.scene.ends, self.reference_ends)]
 
-    def _drop_coefficient(self, loads):
-        """The coefficient c of I = int Lambda sin(theta) ds in the end loads' potential
-        (-Q_z z at each end, z eliminated through I where one end holds it), and dc/dp: an
-        end holding z fixes the other's z(L) = z(0) - I."""
+    def _drop_coefficients(self, loads, p):
+        """Per element e, the coefficient c_e of its drop I_e = int_e Lambda sin(theta) ds in
+        the dead loads' potential (-Q_z z on each end and ring, z eliminated through the
+        drops from the anchoring end), and dc_e/dp (E,) each: with the first end anchoring,
+        z(s) = z(0) - (the drops before s), so a load at s adds Q_z to the elements before
+        it; with the second, z(s) = z(L) + (the drops after s), -Q_z to those after. c_e is
+        the axial force F_z per radian in element e."""
         (Qa, dQa), (Qb, dQb) = loads
+        c, dc = np.zeros(self.E), np.zeros(self.E)
         if self.anchor == 1:
-            return -Qa[1], -dQa[1]             # z(0) = z(L) + I: potential -Q_a I
-        return Qb[1], dQb[1]                   # z(L) = z(0) - I: potential +Q_b I
+            c -= Qa[1]                         # z(0) = z(L) + I: potential -Q_a I
+            dc -= dQa[1]
+        else:
+            c += Qb[1]                         # z(L) = z(0) - I: potential +Q_b I
+            dc += dQb[1]
+        for ring, e in zip(self.scene.rings, self.ring_elements):
+            Q, dQ = ring.conjugate(p)[1], ring.conjugate(p, 1)[1]
+            side = slice(None, e) if self.anchor == 0 else slice(e, None)
+            sign = 1.0 if self.anchor == 0 else -1.0
+            c[side] += sign * Q
+            dc[side] += sign * dQ
+        return c, dc
 
     def _drop(self, V):
         """I = int Lambda sin(theta) ds by the energy quadrature, with its gradient (E, nq,
@@ -741,17 +762,18 @@ class RitzSystem:
         gE, HE, gpE = gE.reshape(E, nq, 4), HE.reshape(E, nq, 4, 4), gpE.reshape(E, nq, 4)
         # the drop I's share: the axial end loads' potential, and the axial constraint
         loads = self._end_loads(p)
-        cI, dcI = self._drop_coefficient(loads)
+        cI, dcI = self._drop_coefficients(loads, p)
         xfull = self.full(U)
         fz = xfull[-1] if self.z_constraint else 0.0
         k = sc.h * sc.h / 12.0
         I, gI, HI = self._drop(V)
         coef = cI - k * fz                        # the constraint's term: fz (z0a - z0b - I)
-        if coef != 0.0:
-            gE = gE + coef * gI / (self.L[:, None, None] * wq[None, :, None])
-            HE = HE + coef * HI / (self.L[:, None, None, None] * wq[None, :, None, None])
-        if dcI != 0.0:
-            gpE = gpE + dcI * gI / (self.L[:, None, None] * wq[None, :, None])
+        if np.any(coef != 0.0):
+            gE = gE + coef[:, None, None] * gI / (self.L[:, None, None] * wq[None, :, None])
+            HE = HE + coef[:, None, None, None] * HI / (self.L[:, None, None, None]
+                                                        * wq[None, :, None, None])
+        if np.any(dcI != 0.0):
+            gpE = gpE + dcI[:, None, None] * gI / (self.L[:, None, None] * wq[None, :, None])
         we = (2 * math.pi * self.L[:, None] * wq[None, :]).reshape(n)
         gC, HC = _constraint_terms(Uc, self.L, sc.h)
         wk = 2 * math.pi * self.L[:, None] * wc[None, :]
@@ -774,6 +796,9 @@ class RitzSystem:
             Rf[th_node] -= 2 * math.pi * Q[2]
             Rpf[r_node] -= 2 * math.pi * dQ[0]
             Rpf[th_node] -= 2 * math.pi * dQ[2]
+        for ring, r_node in zip(sc.rings, self.ring_r_nodes):     # the rings' radial loads
+            Rf[r_node] -= 2 * math.pi * ring.conjugate(p)[0]
+            Rpf[r_node] -= 2 * math.pi * ring.conjugate(p, 1)[0]
         if self.T is not None:
             return self._reduced_system(U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE)
         rows, cols, vals = [self._rows], [self._cols], [H.ravel()[self._keep]]
@@ -962,14 +987,15 @@ class RitzSystem:
         z0 = self._z_first(float(whole[-1]))
         return z0 - (whole[e] + np.sum(part * wq, axis=1) * x * self.L[e]), z0
 
-    def _axial_force(self, U, p) -> float:
-        """F_z per radian (constant along the meridian): the multiplier of the axial
-        constraint where both ends hold z, else the axial line load's reaction
-        (F(second) = Q, F(first) = -Q)."""
+    def _axial_force(self, U, p, s) -> np.ndarray:
+        """F_z per radian at the points s: per element, the coefficient of its drop
+        (:meth:`_drop_coefficients`: the axial line loads' reactions, F(second) = Q and
+        F(first) = -Q, jumping by -Q at a ring) plus the axial constraint's multiplier
+        where both ends hold z."""
+        c, _ = self._drop_coefficients(self._end_loads(p), p)
         if self.z_constraint:
-            return -self.scene.h ** 2 / 12 * float(self.full(U)[-1])
-        (Qa, _), (Qb, _) = self._end_loads(p)
-        return -Qa[1] if self.anchor == 1 else Qb[1]
+            c = c - self.scene.h ** 2 / 12 * float(self.full(U)[-1])
+        return c[self._locate(np.atleast_1d(np.asarray(s, dtype=float)))[0]]
 
     def profile(self, U, p):
         """A callable s -> (6, n): the BVP's unknowns (r, z, theta, m, f_r, f_z) of this
@@ -1044,7 +1070,7 @@ class RitzSystem:
         self._p = float(p)                 # (a prescribed displacement's value in z)
         z, z0 = self._z(th, Lam, s)
         return dict(s=s, r=rv, z=z, theta=thv, X=X, F=F[:4], t=F[K.THICKNESS], M=M, F_r=F_r,
-                    F_z=self._axial_force(U, p) + 0.0 * s, gw=gw, Hw=Hw, z_pole=z0)
+                    F_z=self._axial_force(U, p, s), gw=gw, Hw=Hw, z_pole=z0)
 
     def output_points(self) -> np.ndarray:
         """The element nodes, each once, without the poles (where lam2 and k2 are limits),
@@ -1078,7 +1104,8 @@ class RitzSystem:
         sc_ = other.ea[:, None] + other.L[:, None] * other.tc[None, :]
         x[off_f:off_f + other.E * other.q] = self.interpolate(f, sc_.ravel(), at="collocation")
         if other.z_constraint:
-            x[-1] = -12.0 / self.scene.h ** 2 * self._axial_force(U, p)
+            x[-1] = -12.0 / self.scene.h ** 2 * float(
+                self._axial_force(U, p, [self.scene.length])[0])
         return other.reduced(x)
 
     # --- resolution -----------------------------------------------------------------------

@@ -166,11 +166,9 @@ class ShootingSystem:
         self.s0 = np.concatenate([e[:-1] for e in edges])
         self.s1 = np.concatenate([e[1:] for e in edges])
         self.piece = np.repeat(np.arange(bvp.P), per_piece)
-        #: the jump of the state at the end of each segment (a piece's last, before an
-        #: interface: the BVP's jump there; zero elsewhere)
-        self.jumps = np.zeros((self.piece.size, 6))
-        for i in range(bvp.P - 1):
-            self.jumps[(i + 1) * per_piece - 1] = bvp.jumps[i]
+        #: the segment each interface ends (a piece's last): the state jumps there by the
+        #: BVP's jump (:meth:`shellbvp.bvp.ShellBVP.jumps_at`), continuous elsewhere
+        self.jump_segments = (np.arange(1, bvp.P) * per_piece - 1).astype(int)
         self.per_piece, self.n, self.segments = per_piece, self.s0.size, segments
         self.size = 6 * (self.n + 1)
         self.rtol, self.steps = rtol, steps
@@ -198,12 +196,14 @@ class ShootingSystem:
         J = np.zeros((self.size, self.size))
         Rp = np.zeros(self.size)
         R[:6], J[:6, :6], J[:6, -6:], Rp[:6] = rb, Ja, Jb, Jpb
+        jumps, jumps_p = (np.zeros((n, 6)) for _ in range(2))
+        jumps[self.jump_segments], jumps_p[self.jump_segments] = self.bvp.jumps_at(p)
         for j in range(n):  # continuity: flow_j(U_j) + jump_j - U_{j+1} (U_n = y_edge)
             rows = slice(6 + 6 * j, 12 + 6 * j)
-            R[rows] = ends[j] + self.jumps[j] - Y[j + 1]
+            R[rows] = ends[j] + jumps[j] - Y[j + 1]
             J[rows, 6 * j:6 * j + 6] = sens[j]
             J[rows, 6 * j + 6:6 * j + 12] = -np.eye(6)
-            Rp[rows] = sens_p[j]
+            Rp[rows] = sens_p[j] + jumps_p[j]
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J)) and np.all(np.isfinite(Rp))):
             raise ConvergenceError(
                 f"shooting: non-finite residual ({self.bvp.scene.parameter} = {p:g}); the ODE "
