@@ -502,6 +502,10 @@ class SceneFile:
         tol: the fold tolerance, in the parameter's units.
         observables: the named columns (:class:`Observable`).
         units: :class:`Units`.
+        points: at least this many points on the branch (``[solver] points``): the
+            continuation's steps are at most 1/points of the branch's arclength, measured
+            by a first pass with the step control's own steps (which it costs); None: those
+            steps alone (long where the branch is straight).
     """
 
     source: str
@@ -516,6 +520,7 @@ class SceneFile:
     tol: float
     observables: tuple = field(repr=False)
     units: Units = field(repr=False)
+    points: int | None = None
 
     @property
     def t_range(self) -> tuple[float, float]:
@@ -549,9 +554,24 @@ class SceneFile:
         options = ContinuationOptions(fold_tol=self.tol / abs(self.scale))
         report = None if progress is None else \
             (lambda pt: progress(float(self.parameter_value(pt.p))))
-        branch = follow_scene(self.scene, method=self.method, p0=self.t_range[0],
-                              p_stop=self.t_range, n_folds=folds, options=options,
-                              progress=report)
+
+        def run(options, report):
+            return follow_scene(self.scene, method=self.method, p0=self.t_range[0],
+                                p_stop=self.t_range, n_folds=folds, options=options,
+                                progress=report)
+
+        if self.points is not None:
+            # the branch's length in the continuation's norm (U by its RMS, and p) from a
+            # first pass with the step control's own steps, then steps of at most 1/points
+            # of it, less a tenth (the first steps start shorter, and chords are shorter
+            # than the arcs they span)
+            pts = run(options, None).points
+            step = sum(math.hypot(float(np.sqrt(np.mean((b.U - a.U) ** 2))), b.p - a.p)
+                       for a, b in zip(pts[:-1], pts[1:])) / (1.1 * self.points)
+            options = replace(options, ds_max=step, ds=min(options.ds, step),
+                              ds_min=min(options.ds_min, step / 100),
+                              max_steps=max(options.max_steps, 4 * self.points))
+        branch = run(options, report)
         return SceneBranch.of(self, branch, folds)
 
     def first_instability(self, *, tol: float = 1e-6) -> "SceneInstability":
@@ -821,7 +841,7 @@ def _read(data: dict, source: str) -> SceneFile:
     pressure = _pressure(top, units, param)
     ends = _pole_force(top, meridian, units, param, _ends(top, meridian, units, param))
     rings = _rings(top, meridian, units, param)
-    method, tol, monitor = _solver(top, stop - start, scale)
+    method, tol, monitor, points = _solver(top, stop - start, scale)
     observables = _observables(top, units, meridian, parameter)
     try:
         scene = Scene(geometry=meridian, h=h_user / L, ends=ends, thickness=thickness,
@@ -830,7 +850,7 @@ def _read(data: dict, source: str) -> SceneFile:
     except ValueError as exc:
         raise ValueError(f"{_scene_key(str(exc))}: {_one_line(exc)}") from None
     return SceneFile(source, title, scene, parameter, start, stop, scale, folds, method, tol,
-                     observables, units)
+                     observables, units, points)
 
 
 def _scene_key(message: str) -> str:
@@ -1133,7 +1153,7 @@ def _ends(top, meridian, units, param):
 
 
 def _solver(top, span, scale):
-    t = top.table("solver", ("method", "tol", "monitor"))
+    t = top.table("solver", ("method", "tol", "monitor", "points"))
     method = t.string("method", "spectral", choices=METHOD_NAMES)
     tol = t.number("tol", DEFAULT_RELATIVE_TOL * abs(span), positive=True)
     if not tol < 0.1 * abs(scale):
@@ -1144,7 +1164,14 @@ def _solver(top, span, scale):
         raise ValueError(f"solver.monitor: the continuation's monitor is an end value "
                          f"(uz, ur or rotation of first or second, or a difference of two), "
                          f"got {monitor!r}")
-    return method, tol, monitor
+    points = None
+    if "points" in t:
+        value = t.raw("points")
+        if isinstance(value, bool) or not isinstance(value, int) or not 2 <= value <= 100000:
+            raise ValueError(f"solver.points: expected an integer in [2, 100000], got "
+                             f"{_describe(value)}")
+        points = value
+    return method, tol, monitor, points
 
 
 def _observables(top, units, meridian, parameter):

@@ -221,6 +221,7 @@ BAD = [
      "observe.w_centre: s = 3 outside the meridian, s in [0, 1]"),
     ('w_centre = "uz(first)"', 'energy = "uz(first)"', "observe.energy: the name is taken"),
     ('[ends]', '[solver]\nmethod = "magic"\n[ends]', "solver.method: must be one of spectral"),
+    ('[ends]', '[solver]\npoints = 1\n[ends]', "solver.points: expected an integer in [2, 100000]"),
     ('[ends]', '[solver]\nmonitor = "uz(third)"\n[ends]', "solver.monitor: monitor 'uz(third)'"),
     ('[material]', 'x = = 1\n[material]', "not a TOML file: "),
     ('pressure = "p"', 'pressure = "p"\npole = "second"',
@@ -473,6 +474,17 @@ def test_a_point_force_in_newtons_on_a_plate_in_millimetres(tmp_path):
         'first = "pole"', 'first = "free"')
     with pytest.raises(ValueError, match="loads.pole_force: the meridian has no pole"):
         shellbvp.load_scene(_write(tmp_path, annulus, "annulus.toml"))
+
+
+def test_solver_points_draws_a_finer_branch(tmp_path):
+    """``[solver] points = 40``: the plate's monotone branch gets at least 40 points (it has
+    a handful without: the step control takes long steps where the branch is straight), and
+    still runs to ``to``."""
+    plain = load_scene(_write(tmp_path, PLATE)).follow()
+    fine = load_scene(_write(tmp_path, PLATE.replace("[ends]", "[solver]\npoints = 40\n[ends]"),
+                             "fine.toml")).follow()
+    assert len(plain.rows) < 40 <= len(fine.rows)
+    assert fine.last["p"] >= 1.0e-6 and "to" in fine.stop      # it still runs to `to`
 
 
 def test_a_ring_load_in_newtons_on_a_plate_in_millimetres(tmp_path):
