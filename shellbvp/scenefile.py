@@ -356,6 +356,12 @@ def _key_of(kind, expressions, factors, *numbers) -> str:
     return f"shellbvp.scenefile.{kind}({body} | {' '.join(map(repr, numbers))})"
 
 
+#: how far inside its piece an expression sees a point at an interface, in meridian lengths
+#: (:class:`PointFunction`): well above the rounding of s and of a break's position, well
+#: below any resolution (a smooth field moves by ~1e-12 of its scale there)
+INSIDE = 1e-12
+
+
 @dataclass(frozen=True, eq=False, repr=False)
 class PointFunction(_KeyedFunction):
     """Expressions of a reference point x (and of the parameter), in the file's units,
@@ -365,6 +371,13 @@ class PointFunction(_KeyedFunction):
     Each expression sees s, r, z times ``length``, k1_ref and k2_ref over it, and the
     parameter p = scale t; its value is multiplied by its factor. Evaluated with
     ``jax.numpy`` where the engine traces it, numpy elsewhere.
+
+    ``piece_ends`` (the scene's, internal units; set once the scene's interfaces are
+    known): on piece i the expressions see s held inside [a_i + d, b_i - d] at an interior
+    interface (d = ``INSIDE`` times the meridian's length), so that a step written in s at
+    a break, ``where(s < X, ...)``, takes on each piece that piece's side, whatever the
+    comparison and the rounding of X (its node at the interface sees the interface from
+    inside, as the multi-point problem has it).
     """
 
     expressions: tuple
@@ -372,18 +385,30 @@ class PointFunction(_KeyedFunction):
     length: float
     parameter: _Parameter
     single: bool = False
+    piece_ends: tuple = ()
     cache_key: str = field(init=False)
 
     def __post_init__(self):
         p = self.parameter
         object.__setattr__(self, "cache_key", _key_of(
             "point" if not self.single else "profile", self.expressions, self.factors,
-            self.length, p.name, p.scale))
+            self.length, p.name, p.scale, *self.piece_ends))
+
+    def _inside(self, x, xp):
+        """x.s held inside its piece (:attr:`piece_ends`; unchanged without them, or at the
+        meridian's own ends)."""
+        ends = self.piece_ends
+        if not ends or not isinstance(x.piece, (int, np.integer)):
+            return x.s
+        i, d = int(x.piece), INSIDE * (ends[-1] - ends[0])
+        lo = ends[i] + d if i > 0 else -np.inf
+        hi = ends[i + 1] - d if i < len(ends) - 2 else np.inf
+        return xp.clip(x.s, lo, hi)
 
     def __call__(self, x, t=0.0):
         L = self.length
         xp = _array_module(x.s, x.r, x.z, x.k1, x.k2, t)
-        env = {"s": L * x.s, "r": L * x.r, "z": L * x.z, "k1_ref": x.k1 / L,
+        env = {"s": L * self._inside(x, xp), "r": L * x.r, "z": L * x.z, "k1_ref": x.k1 / L,
                "k2_ref": x.k2 / L, self.parameter.name: self.parameter.user(t)}
         values = tuple(f * e(xp=xp, **env) for e, f in zip(self.expressions, self.factors))
         return values[0] if self.single else values
@@ -609,7 +634,7 @@ class SceneFile:
         states = bvp.profile(system.dense(U, t))(np.array([s for _, s in places]))
         at = {place: states[:, k] for k, place in enumerate(places)}
         return {ob.name: sum(sign * self._component(bvp, at[self._place(bvp, where)], comp,
-                                                    where)
+                                                    where, t)
                              for sign, comp, where in ob.terms)
                 for ob in self.observables}
 
@@ -623,18 +648,23 @@ class SceneFile:
             return (1, bvp.s_b) if s > bvp.s_b else (None, s)
         return (0, bvp.s_a) if where == "first" else (1, bvp.s_b)
 
-    def _component(self, bvp, y, comp, where) -> float:
-        """One term of an observable, ``comp`` (ur, uz, rotation) at ``where`` with the
-        unknowns y there, in the file's units."""
+    def _component(self, bvp, y, comp, where, t) -> float:
+        """One term of an observable, ``comp`` (ur, uz, rotation, force) at ``where`` with
+        the unknowns y there, at the parameter t, in the file's units."""
         from .kernels import end_value
 
         geo = self.scene.geometry
         end, s = self._place(bvp, where)
         if comp == "force":
-            # F_z per radian (the unknown is scaled by 12 / h^2); the support's force on
-            # the shell is -2 pi F_z at the first end, 2 pi F_z at the second
-            F_z = float(y[5]) * self.scene.h ** 2 / 12.0
-            return (2 * math.pi * F_z * (1.0 if end == 1 else -1.0)
+            # the axial force resultant per radian: the multiplier F_z (the unknown is
+            # scaled by 12 / h^2) plus, under a pressure P, P r^2 / 2, for the pressure's
+            # potential P pi int r^2 Lambda sin(theta) ds sits beside F_z's in the
+            # Lagrangian (the pressure on the disc of radius r); the support's force on the
+            # shell is minus that times 2 pi at the first end, plus at the second
+            F = float(y[5]) * self.scene.h ** 2 / 12.0
+            if self.scene.pressure is not None:
+                F += float(self.scene.pressure(t)) * float(y[0]) ** 2 / 2.0
+            return (2 * math.pi * F * (1.0 if end == 1 else -1.0)
                     * self.units.point_force)
         index = {"ur": 0, "uz": 1, "rotation": 2}[comp]
         if end is None:
@@ -849,6 +879,12 @@ def _read(data: dict, source: str) -> SceneFile:
                       rings=rings, **material, **stimulus)
     except ValueError as exc:
         raise ValueError(f"{_scene_key(str(exc))}: {_one_line(exc)}") from None
+    if scene.pieces > 1:
+        # the expressions see each piece from inside (PointFunction.piece_ends)
+        ends = tuple(float(x) for x in scene.piece_ends)
+        scene = replace(scene, **{name: replace(getattr(scene, name), piece_ends=ends)
+                                  for name in ("fields", "through_thickness", "thickness")
+                                  if isinstance(getattr(scene, name), PointFunction)})
     return SceneFile(source, title, scene, parameter, start, stop, scale, folds, method, tol,
                      observables, units, points)
 

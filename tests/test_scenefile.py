@@ -487,6 +487,57 @@ def test_solver_points_draws_a_finer_branch(tmp_path):
     assert fine.last["p"] >= 1.0e-6 and "to" in fine.stop      # it still runs to `to`
 
 
+def test_a_clamped_edges_reaction_under_pressure(tmp_path):
+    """``force(second)`` of a clamped edge under a pressure is the pressure times the area
+    the edge encloses, p pi a^2 (the axial equilibrium of the whole shell, exact: the
+    pressure on a surface closed by a flat disc has zero resultant), on the plate and on a
+    spherical cap (a = sin 0.5), to round-off. It is the force resultant F_z + p r^2 / 2,
+    not the multiplier F_z alone (zero here)."""
+    cap = PLATE.replace('{ type = "plate", r = [0.0, 1.0], z = 0.0 }',
+                        '{ type = "sphere", radius = 1.0, centre_z = -1.0, angle = [0.0, 0.5] }')
+    for text, a in ((PLATE, 1.0), (cap, math.sin(0.5))):
+        text = text.replace('w_centre = "uz(first)"', 'reaction = "force(second)"')
+        last = load_scene(_write(tmp_path, text)).follow().last
+        assert last["reaction"] == pytest.approx(math.pi * last["p"] * a**2, rel=1e-10)
+
+
+ANNULUS_BAND = """
+[geometry]
+segments = [ { type = "plate", r = [1.0, 2.0] } ]
+thickness = 0.01
+[material]
+name = "koiter"
+E = 1.0
+nu = 0.3
+[parameter]
+name = "g"
+from = 0.0
+to = 1.0e-6
+[stimulus]
+g1 = "1 + where(s OP 0.5, g, 0)"
+g2 = "1 + where(s OP 0.5, g, 0)"
+breaks = [0.5]
+[ends]
+first = "free"
+second = "roller"
+"""
+
+
+@pytest.mark.parametrize("op", ["<", "<="])
+def test_a_step_at_a_break_takes_each_pieces_side(op, tmp_path):
+    """A flat annulus (r from 1 to 2) whose inner band r < 1.5 grows in-plane by g, the step
+    written in s at its break either way: each piece sees its own side, so the inner edge
+    moves as plane-stress elasticity with that eigenstrain says (Lame: u(a) = a g (b^2 -
+    a^2) / (c^2 - a^2), a, b, c = 1, 1.5, 2) to 1e-5 (measured 1.3e-6, as with fields
+    written per piece in Python); before, the node at the break took the other side's value
+    for one of the two and the edge was off by 1.5e-4 with an error estimate of 7e-11."""
+    g = 1e-6
+    sf = load_scene(_write(tmp_path, ANNULUS_BAND.replace("OP", op)))
+    eq = shellbvp.solve(sf.scene, g / sf.scale)
+    u = (eq.r[0] - 0.5) * 2.0                      # r inside is r / L, L = 2
+    assert abs(u / (g * (1.5**2 - 1) / (2**2 - 1)) - 1) < 1e-5
+
+
 def test_a_ring_load_in_newtons_on_a_plate_in_millimetres(tmp_path):
     """``[loads] rings``: the clamped plate of PLATE in millimetres, a total force F (N) down
     on the circle r = b = 100 mm: Kirchhoff's centre deflection
