@@ -32,8 +32,8 @@ it (deflections 0.009-0.161 in, loads 9.7-70 lb). Our CSV names them right.
 There is no limit point: the published curves and ours rise monotonically, flattening to a
 near-plateau (least stiffness about 1/8 of the initial one, near w_c = 0.12 in, P = 42 lb)
 before the inverted cap stiffens as a membrane. (The limit point of Teng & Rotter's Fig. 12
-belongs to the ring load at r/a = 0.42, a line load inside the meridian, which scene files
-do not offer.) The headline quantity is therefore the load at the apex deflection w_c = H,
+belongs to the ring load at r/a = 0.42: the gallery's cap-ring-load case,
+figures/gallery_cap_ring_load.py.) The headline quantity is therefore the load at the apex deflection w_c = H,
 the apex level with the clamped base: on the mid part of the curve, where neither coordinate
 is amplified by a steep or a flat stretch, read from Teng & Rotter's points by linear
 interpolation between the two that bracket it (0.0757 and 0.0894 in; the chord's error
