@@ -14,7 +14,9 @@ gallery_summary.csv (the docs' table).
 
 from __future__ import annotations
 
+import csv
 import json
+import math
 import subprocess
 import sys
 import time
@@ -23,12 +25,22 @@ from concurrent.futures import ThreadPoolExecutor
 from _common import HERE, parser, write_csv
 
 COLUMNS = ("case", "source", "quantity", "published", "shellbvp", "difference",
-           "tolerance", "ok", "seconds")
+           "tolerance", "ok", "seconds", "script")
 
 
 def cases() -> list:
-    """The case scripts, in name order."""
-    return sorted(HERE.glob("gallery_*.py"))
+    """The case scripts, longest first by the last run's times (gallery.csv; a new case
+    first of all), so that two at a time finish together."""
+    last = {}
+    if (HERE / "gallery.csv").exists():
+        with open(HERE / "gallery.csv", newline="") as f:
+            for row in csv.DictReader(f):
+                try:
+                    last[row.get("script", "")] = float(row["seconds"])
+                except (KeyError, ValueError):
+                    pass
+    return sorted(HERE.glob("gallery_*.py"), key=lambda p: (-last.get(p.stem, math.inf),
+                                                            p.name))
 
 
 def run_case(path, quick: bool) -> dict:
@@ -63,8 +75,12 @@ def main(argv=None):
     p.add_argument("--jobs", type=int, default=2, help="cases run at once (default 2)")
     a = p.parse_args(argv)
     t0 = time.perf_counter()
+    order = cases()
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
-        rows = list(pool.map(lambda path: run_case(path, a.quick), cases()))
+        rows = list(pool.map(lambda path: run_case(path, a.quick), order))
+    for r, path in zip(rows, order):
+        r["script"] = path.stem
+    rows.sort(key=lambda r: r["case"])
     for r in rows:
         state = "ok" if r.get("ok") else "MISS" if "error" not in r else "FAILED"
         print(f"{state:6s} {r['case']}: {r.get('quantity', '')}: published "
