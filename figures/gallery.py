@@ -66,7 +66,7 @@ def summary(r: dict) -> list:
     return [r["case"], r.get("quantity", ""), num(r.get("published"), ".4g"),
             num(r.get("shellbvp"), ".4g"), num(100 * r["difference"], "+.1f") + " %"
             if isinstance(r.get("difference"), float) else "",
-            num(100 * r["tolerance"], ".0f") + " %" if isinstance(r.get("tolerance"), float)
+            num(100 * r["tolerance"], ".2g") + " %" if isinstance(r.get("tolerance"), float)
             else "", "yes" if r.get("ok") else "no", num(r.get("seconds"), ".0f") + " s"]
 
 
