@@ -107,3 +107,19 @@ def scene_with_thickness(path: Path, t_file: float, t: float):
         copy = Path(d) / path.name
         copy.write_text(text.replace(key, f"thickness = {t!r}"))
         return shellbvp.load_scene(copy)
+
+
+def read_series(path: Path, x: str, y: str) -> dict:
+    """{series: (x values, y values)} of a published-data CSV with a ``series`` column and
+    the columns ``x`` and ``y`` (the gallery's digitised curves)."""
+    import csv
+
+    import numpy as np
+
+    out = {}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            xs, ys = out.setdefault(r["series"], ([], []))
+            xs.append(float(r[x]))
+            ys.append(float(r[y]))
+    return {k: (np.array(a), np.array(b)) for k, (a, b) in out.items()}

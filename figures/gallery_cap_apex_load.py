@@ -67,14 +67,13 @@ about fourfold when R is doubled at fixed a and t.
 
 from __future__ import annotations
 
-import csv
 import math
 import sys
 import time
 
 import numpy as np
 
-from _common import HERE, finish, parser, pyplot, print_summary, write_csv
+from _common import HERE, finish, parser, print_summary, pyplot, read_series, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "cap-apex-load.toml"
@@ -127,13 +126,7 @@ def reissner_stiffness(R: float = R, t: float = T, a: float = A, E: float = E,
 
 def read_published() -> dict:
     """{series: (w_c (in), P (lb))} from the published CSV."""
-    out = {}
-    with open(PUBLISHED, newline="") as f:
-        for r in csv.DictReader(f):
-            w, P = out.setdefault(r["series"], ([], []))
-            w.append(float(r["w_apex[in]"]))
-            P.append(float(r["P[lb]"]))
-    return {k: (np.array(w), np.array(P)) for k, (w, P) in out.items()}
+    return read_series(PUBLISHED, "w_apex[in]", "P[lb]")
 
 
 def follow_scene(quick: bool):

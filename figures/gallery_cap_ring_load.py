@@ -81,13 +81,12 @@ halved and quartered), measured at P -> 0 before this script was written; its to
 
 from __future__ import annotations
 
-import csv
 import math
 import sys
 import time
 
 import numpy as np
-from _common import HERE, finish, parser, print_summary, pyplot, write_csv
+from _common import HERE, finish, parser, print_summary, pyplot, read_series, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "cap-ring-load.toml"
@@ -157,13 +156,7 @@ def ring_flexibility(b: float = B, R: float = R, t: float = T, a: float = A, E: 
 
 def read_published() -> dict:
     """{series: (w_c (in), P (lb))} from the published CSV."""
-    out = {}
-    with open(PUBLISHED, newline="") as f:
-        for r in csv.DictReader(f):
-            w, P = out.setdefault(r["series"], ([], []))
-            w.append(float(r["w_apex[in]"]))
-            P.append(float(r["P[lb]"]))
-    return {k: (np.array(w), np.array(P)) for k, (w, P) in out.items()}
+    return read_series(PUBLISHED, "w_apex[in]", "P[lb]")
 
 
 def follow_scene(quick: bool):
