@@ -20,8 +20,8 @@ from docs_blocks import ROOT, blocks
 from shellbvp.scenefile import SceneFile, example, examples, load_scene
 
 PAGE = ROOT / "docs" / "scene-files.md"
-EXAMPLES = ("clamped-plate", "disc-spring", "everting-cap", "measured-bowl",
-            "pressurised-cylinder")
+EXAMPLES = ("clamped-plate", "cylinder-growing-ring", "disc-spring", "disc-spring-swelling",
+            "everting-cap", "measured-bowl", "pressurised-cylinder")
 #: kappa_s R0 of the default cap (Theta = pi/6, h = 0.01, lam = 1, relaxed), from
 #: shellbvp.problems.cap_eversion.snap_curvature (the README states it to these digits)
 KAPPA_S = 4.2214291314
