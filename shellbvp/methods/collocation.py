@@ -92,7 +92,7 @@ class Collocation:
                 J[n * i:n * i + n, n * i:n * i + n] = L[i] * nod.J[i]
             return J
 
-        jumps = bvp.jumps_at(p)[0]
+        jumps = bvp.jumps_at(p)[0] if P > 1 else None      # (one piece: no interface)
 
         def bc(ya, yb):
             return np.concatenate([bvp.boundary(ya[:n], yb[-n:], p)[0]]

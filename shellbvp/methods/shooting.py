@@ -197,7 +197,8 @@ class ShootingSystem:
         Rp = np.zeros(self.size)
         R[:6], J[:6, :6], J[:6, -6:], Rp[:6] = rb, Ja, Jb, Jpb
         jumps, jumps_p = (np.zeros((n, 6)) for _ in range(2))
-        jumps[self.jump_segments], jumps_p[self.jump_segments] = self.bvp.jumps_at(p)
+        if self.bvp.P > 1:                   # (one piece: no interface)
+            jumps[self.jump_segments], jumps_p[self.jump_segments] = self.bvp.jumps_at(p)
         for j in range(n):  # continuity: flow_j(U_j) + jump_j - U_{j+1} (U_n = y_edge)
             rows = slice(6 + 6 * j, 12 + 6 * j)
             R[rows] = ends[j] + jumps[j] - Y[j + 1]
