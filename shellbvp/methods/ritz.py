@@ -677,7 +677,12 @@ class RitzSystem:
         return [(end.conjugate(p, float(ref[0])), end.conjugate(p, float(ref[0]), 1))
                 for end, ref in zip(self.scene.ends, self.reference_ends)]
 
-    def _drop_coefficients(self, loads, p):
+    def _ring_loads(self, p):
+        """Per ring, its (Q_r, Q_z) per radian at p and their p-derivatives
+        (:meth:`shellbvp.scene.Ring.conjugate`)."""
+        return [(ring.conjugate(p), ring.conjugate(p, 1)) for ring in self.scene.rings]
+
+    def _drop_coefficients(self, loads, rings):
         """Per element e, the coefficient c_e of its drop I_e = int_e Lambda sin(theta) ds in
         the dead loads' potential (-Q_z z on each end and ring, z eliminated through the
         drops from the anchoring end), and dc_e/dp (E,) each: with the first end anchoring,
@@ -692,8 +697,8 @@ class RitzSystem:
         else:
             c += Qb[1]                         # z(L) = z(0) - I: potential +Q_b I
             dc += dQb[1]
-        for ring, e in zip(self.scene.rings, self.ring_elements):
-            Q, dQ = ring.conjugate(p)[1], ring.conjugate(p, 1)[1]
+        for (Qk, dQk), e in zip(rings, self.ring_elements):
+            Q, dQ = Qk[1], dQk[1]
             side = slice(None, e) if self.anchor == 0 else slice(e, None)
             sign = 1.0 if self.anchor == 0 else -1.0
             c[side] += sign * Q
@@ -761,8 +766,8 @@ class RitzSystem:
                               (P, dP, sc.material_parameter, sc.h))
         gE, HE, gpE = gE.reshape(E, nq, 4), HE.reshape(E, nq, 4, 4), gpE.reshape(E, nq, 4)
         # the drop I's share: the axial end loads' potential, and the axial constraint
-        loads = self._end_loads(p)
-        cI, dcI = self._drop_coefficients(loads, p)
+        loads, rings = self._end_loads(p), self._ring_loads(p)
+        cI, dcI = self._drop_coefficients(loads, rings)
         xfull = self.full(U)
         fz = xfull[-1] if self.z_constraint else 0.0
         k = sc.h * sc.h / 12.0
@@ -796,9 +801,9 @@ class RitzSystem:
             Rf[th_node] -= 2 * math.pi * Q[2]
             Rpf[r_node] -= 2 * math.pi * dQ[0]
             Rpf[th_node] -= 2 * math.pi * dQ[2]
-        for ring, r_node in zip(sc.rings, self.ring_r_nodes):     # the rings' radial loads
-            Rf[r_node] -= 2 * math.pi * ring.conjugate(p)[0]
-            Rpf[r_node] -= 2 * math.pi * ring.conjugate(p, 1)[0]
+        for (Q, dQ), r_node in zip(rings, self.ring_r_nodes):    # the rings' radial loads
+            Rf[r_node] -= 2 * math.pi * Q[0]
+            Rpf[r_node] -= 2 * math.pi * dQ[0]
         if self.T is not None:
             return self._reduced_system(U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE)
         rows, cols, vals = [self._rows], [self._cols], [H.ravel()[self._keep]]
@@ -992,7 +997,7 @@ class RitzSystem:
         (:meth:`_drop_coefficients`: the axial line loads' reactions, F(second) = Q and
         F(first) = -Q, jumping by -Q at a ring) plus the axial constraint's multiplier
         where both ends hold z."""
-        c, _ = self._drop_coefficients(self._end_loads(p), p)
+        c, _ = self._drop_coefficients(self._end_loads(p), self._ring_loads(p))
         if self.z_constraint:
             c = c - self.scene.h ** 2 / 12 * float(self.full(U)[-1])
         return c[self._locate(np.atleast_1d(np.asarray(s, dtype=float)))[0]]
