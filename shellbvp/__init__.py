@@ -18,7 +18,8 @@ Solving and continuation
     ContinuationOptions
 Stability
     second_variation; beyond axisymmetry: modes (per harmonic n), modes_along (per point of
-    a branch), first_instability, Instability, Modes
+    a branch), first_instability, Instability, Modes; past the first bifurcation:
+    follow_bifurcation (the n-lobed branch), Koiter, LobedBranch
 Scene files (a shell as a TOML file, :mod:`shellbvp.scenefile`)
     load_scene, SceneFile
 Results
@@ -57,6 +58,7 @@ from .scene_results import Onset, PressureResult, SnapCurve, SnapResult
 from .stability import SecondVariation, second_variation
 from .harmonics import Modes, modes
 from .instability import Instability, first_instability, modes_along
+from .postbuckling import Koiter, LobedBranch, follow_bifurcation
 
 try:
     __version__ = _version("shellbvp")
@@ -72,6 +74,7 @@ __all__ = [
     "solve", "follow", "at_monitor", "fold_near", "fold_curve_point", "fold_gradient",
     "ContinuationOptions",
     "second_variation", "modes", "modes_along", "first_instability", "Instability", "Modes",
+    "follow_bifurcation", "Koiter", "LobedBranch",
     "Equilibrium", "Branch", "Fold", "MonitorPoint", "FoldCurvePoint", "SecondVariation",
     "SnapResult", "Onset", "PressureResult", "SnapCurve", "ConvergenceError",
     "__version__",

@@ -259,6 +259,32 @@ class Fourier2D:
                 loads[e] = Q[:2]
         return P, loads
 
+    def _rates(self, p):
+        """The p-derivatives of what the energy takes from the parameter: the fields at the
+        Gauss points (a JAX jvp of the scene's fields, as the compiled programs trace them),
+        the pressure and the dead end loads."""
+        from .fields import point_fields
+        from .jaxsetup import jax
+        import jax.numpy as jnp
+        from .scene import load_rate
+
+        sc = self.eq.scene
+        c = np.asarray(sc.field_parameters, dtype=float)
+
+        def fields(q):
+            return jnp.concatenate([point_fields(sc, i, self.base.s[i], q, c, jnp).T
+                                    for i in range(self.base.s.shape[0])])
+
+        dF = np.asarray(jax.jvp(fields, (float(p),), (1.0,))[1])
+        dP = 0.0 if sc.pressure is None else load_rate(sc.pressure, p, 1)
+        dloads = np.zeros((2, 2))
+        for e, end in enumerate(sc.ends):
+            if self._loaded[e]:
+                i, s = (0, self.base.pieces[0][0]) if e == 0 else \
+                    (self.base.s.shape[0] - 1, self.base.pieces[-1][1])
+                dloads[e] = end.conjugate(p, float(self._r0_at(i, s)), 1)[:2]
+        return dF, dP, dloads
+
     def _r0_at(self, i, s):
         from .fields import point_fields
         from . import kinematics as Kin
@@ -336,6 +362,23 @@ class Fourier2D:
         """The Hessian of E at y applied to v (a jvp of the gradient)."""
         return np.asarray(self._programs["hvp"](np.asarray(y, dtype=float),
                                                 np.asarray(v, dtype=float), *self._args(p)))
+
+    def parameter_gradient(self, y, p=None) -> np.ndarray:
+        """d(dE/dy)/dp at y: the gradient's rate in the parameter through the fields, the
+        pressure and the dead loads (a jvp of ``gradient``, exact)."""
+        p = self._check_p(p)
+        return np.asarray(self._programs["grad_p"](np.asarray(y, dtype=float),
+                                                   *self._args(p), *self._rates(p)))
+
+    def third(self, y, u, v, p=None) -> np.ndarray:
+        """D^3 E(y)[u, v, .]: the Hessian's derivative along v applied to u (exact)."""
+        return np.asarray(self._programs["d3"](*(np.asarray(a, dtype=float) for a in (y, u, v)),
+                                               *self._args(p)))
+
+    def fourth(self, y, u, p=None) -> float:
+        """D^4 E(y)[u, u, u, u] (exact)."""
+        return float(self._programs["d4"](np.asarray(y, dtype=float),
+                                          np.asarray(u, dtype=float), *self._args(p)))
 
     def state(self, y) -> np.ndarray:
         """(P m, J, 18): the local numbers (x, x_s, x_o, x_ss, x_so, x_oo) at every point."""
@@ -576,7 +619,18 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
     def hvp(y, v, *args):
         return jax.jvp(lambda u: grad(u, *args), (y,), (v,))[1]
 
+    def grad_p(y, data, F, P, loads, mat, h, dF, dP, dloads):
+        return jax.jvp(lambda F_, P_, L_: grad(y, data, F_, P_, L_, mat, h),
+                       (F, P, loads), (dF, dP, dloads))[1]
+
+    def d3(y, u, v, *args):
+        return jax.jvp(lambda z: hvp(z, u, *args), (y,), (v,))[1]
+
+    def d4(y, u, *args):
+        return u @ jax.jvp(lambda z: d3(z, u, u, *args), (y,), (u,))[1]
+
     return dict(energy=jax.jit(energy), grad=jax.jit(grad), hvp=jax.jit(hvp),
+                grad_p=jax.jit(grad_p), d3=jax.jit(d3), d4=jax.jit(d4),
                 q=jax.jit(_synthesis))
 
 

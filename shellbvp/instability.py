@@ -61,6 +61,8 @@ class Instability:
             it is enough.
         scan: per branch point up to the bracket, (p, w, lowest eigenvalue per n) rows.
         stop: the branch's own stop reason (kind ``"none"``).
+        equilibrium: the axisymmetric equilibrium at p (a bifurcation: where the branch
+            into n waves starts, :func:`shellbvp.follow_bifurcation`), or None.
     """
 
     kind: str
@@ -74,6 +76,7 @@ class Instability:
     cutoff_reason: str = field(repr=False, default="")
     scan: tuple = field(repr=False, default=())
     stop: str = field(repr=False, default="")
+    equilibrium: object = field(repr=False, default=None, compare=False)
 
     def __repr__(self) -> str:
         head = {"fold": "axisymmetric fold", "bifurcation": f"bifurcation into n = {self.n}",
@@ -210,7 +213,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             mode = modes(eq_f, [0], count=1, degree=degree)[0]
             return Instability("fold", 0, float(fold.p), float(fold.w),
                                float(fold.error_estimate), name, mode, cutoff,
-                               _cutoff_reason(cutoff), rows)
+                               _cutoff_reason(cutoff), rows, equilibrium=eq_f)
     elif 0 in low and low[0] < 0 and not candidates:
         raise ConvergenceError(f"the n = 0 eigenvalue is negative between {name} = {p_a:.8g} "
                                f"and {p_b:.8g} with no fold of the branch there")
@@ -280,7 +283,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     mode = modes(eq, [n], count=1, degree=degree)[n]
     return Instability("bifurcation", n, float(p), float(eq.w),
                        float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),
-                       rows)
+                       rows, equilibrium=eq)
 
 
 def _before(p, q, p_a, p_b) -> bool:

@@ -1,0 +1,470 @@
+"""Past the first bifurcation: the branch of n-lobed equilibria, Koiter's initial
+post-buckling coefficients and the imperfection sensitivity they imply.
+
+At a bifurcation into n waves (:func:`shellbvp.first_instability`) the full 2D energy is
+discretised on the symmetry class of the critical mode (:mod:`shellbvp.fourier2d`:
+harmonics 0, n, ..., K n about the axisymmetric equilibrium there, unknowns y with the
+identity mass matrix). Its stationarity, G(y, p) = dE/dy = 0, is a discrete system of the
+one continuation (:class:`LobedSystem`: Jacobian the exact Hessian, dG/dp exact, monitor
+the amplitude a = phi . y of the critical mode phi).
+
+The bifurcation in this discretisation (:func:`critical_point`): along the axisymmetric
+branch y_0(p) (harmonic 0 alone; the others' gradient vanishes there by symmetry) the root
+p_c of the lowest eigenvalue mu_n(p) of the Hessian's block n, phi its eigenvector.
+
+Koiter's expansion (:func:`koiter`). The rotation by pi / n maps the class onto itself and
+phi onto -phi, so E is even in a and the bifurcation is a pitchfork: Koiter's a = 0. With
+w = y - y_0(p) = a phi + a^2 psi + ..., phi . psi = 0, and p = p_c + p2 a^2 + ...:
+
+    order a^2:  H psi = -1/2 E'''[phi, phi, .]                      (one linear solve)
+    order a^3:  p2 = -(E'''[phi, phi, psi] + E''''[phi, phi, phi, phi] / 6) / mu_n'(p_c)
+
+(H, E''', E'''' at the bifurcation, mu_n' the rate of mu_n along the axisymmetric branch).
+In the classical normalisation p / p_c = 1 + b xi^2, xi = a w_max / h the largest normal
+displacement of the mode over the thickness: b = p2 h^2 / (w_max^2 p_c). The branch is
+subcritical where p2 points back along the loading (the axisymmetric branch reached p_c
+with p moving the other way): the shell snaps at the bifurcation; supercritical where it
+points on: it wrinkles into n lobes, and snaps (if at all) at the lobed branch's fold.
+
+Imperfection sensitivity (:meth:`Koiter.limit`). An imperfection of amplitude e enters the
+reduced equation along phi as the force e gamma, gamma = phi . d G / d e; then
+mu_n' [(p - p_c) a - p2 a^3] + gamma e = 0, whose limit point (d/da = 0) is
+
+    p_s - p_c = 3 p2 a_s^2,   a_s^3 = -gamma e / (2 mu_n' p2)
+
+(Koiter 1945; Hutchinson & Koiter 1970, eq. 2.10: the two-thirds power law).
+
+Branch switching (:func:`follow_bifurcation`): from (y_0 + a0 phi + a0^2 psi, p_c + p2 a0^2)
+Newton with the amplitude prescribed (a0 = ``start``), then pseudo-arclength continuation
+(:func:`shellbvp.continuation.pseudo_arclength`) to the lobed branch's first fold or to a
+stated end. The fold is located by Brent's method on dp/da and located again on a finer
+discretisation (degree + ``DEGREE_STEP``, K + 1): the change is its error estimate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .continuation import ContinuationOptions, locate_fold, newton, pseudo_arclength
+from .continuation.arclength import Point
+from .errors import ConvergenceError
+from .fourier2d import Fourier2D
+from .results import Equilibrium
+
+__all__ = ["LobedSystem", "Koiter", "LobedBranch", "LobedFold", "critical_point", "koiter",
+           "follow_bifurcation", "DEGREE_STEP", "LOBED_OPTIONS"]
+
+#: degree increase of the finer discretisation that gives every lobed fold its error
+DEGREE_STEP = 8
+#: the continuation's settings on a lobed branch (unknowns of unit mass norm: ds = 0.02 is a
+#: change of shape of a fiftieth of the amplitude scale, or of p)
+LOBED_OPTIONS = ContinuationOptions(ds=0.005, ds_min=1e-7, ds_max=0.05, max_steps=400,
+                                    newton_tol=1e-9)
+#: relative tolerance of the bifurcation's p in the 2D discretisation
+CRITICAL_TOL = 1e-13
+#: ... and the step at which the secant is at the eigenvalue's round-off floor
+FLOOR_TOL = 1e-9
+
+
+class LobedSystem:
+    """G(y, p) = dE/dy = 0 of a :class:`shellbvp.fourier2d.Fourier2D` discretisation as a
+    discrete system of the continuation: ``evaluate`` gives (G, the exact Hessian, dG/dp);
+    ``monitor`` the amplitude phi . y of the critical mode (and its gradient phi)."""
+
+    def __init__(self, f: Fourier2D, phi: np.ndarray):
+        self.f, self.phi = f, np.asarray(phi, dtype=float)
+        self.size = f.size
+
+    def evaluate(self, y, p):
+        g, Hm = self.f.hessian(y, p, gradient=True)
+        return g, Hm, self.f.parameter_gradient(y, p)
+
+    def monitor(self, y):
+        return float(self.phi @ y), self.phi
+
+
+@dataclass(frozen=True)
+class Koiter:
+    """Koiter's initial post-buckling coefficients at a bifurcation into n waves (module
+    docstring).
+
+    Attributes:
+        n: the harmonic; p_c: the bifurcation (the 2D discretisation's); parameter: its name.
+        a: the asymmetric coefficient (0: the class is symmetric under phi -> -phi).
+        p2: p = p_c + p2 a^2 + ... along the lobed branch, a the mass-norm amplitude.
+        b: the same in the classical normalisation, p / p_c = 1 + b xi^2, xi = a w_max / h.
+        mu_p: d mu_n / dp at p_c along the axisymmetric branch.
+        w_max: the largest normal displacement of the unit (mass norm) mode.
+        h: the thickness the normalisation uses.
+        direction: +1 or -1, the way p moved along the axisymmetric branch to p_c.
+        E3, E4: E'''[phi, phi, psi] and E''''[phi, phi, phi, phi].
+    """
+
+    n: int
+    p_c: float
+    parameter: str
+    p2: float
+    b: float
+    mu_p: float
+    w_max: float
+    h: float
+    direction: float
+    E3: float
+    E4: float
+    a: float = 0.0
+
+    @property
+    def kind(self) -> str:
+        """``"subcritical"`` (the lobed branch turns back along the loading: the shell snaps
+        at the bifurcation and is imperfection sensitive) or ``"supercritical"``."""
+        return "subcritical" if self.p2 * self.direction < 0 else "supercritical"
+
+    def p_of(self, amplitude) -> np.ndarray:
+        """p on the lobed branch at mass-norm amplitude a, to second order."""
+        return self.p_c + self.p2 * np.asarray(amplitude, dtype=float) ** 2
+
+    def limit(self, gamma: float, imperfection) -> np.ndarray:
+        """The limit load of the imperfect shell to leading order: p_s = p_c + 3 p2 a_s^2,
+        a_s^3 = -gamma e / (2 mu_n' p2), for imperfection amplitudes e (NaN where the
+        bifurcation is supercritical: no limit point near it)."""
+        e = np.asarray(imperfection, dtype=float)
+        if self.kind == "supercritical":
+            return np.full(e.shape, math.nan)
+        a_s = np.cbrt(-gamma * e / (2 * self.mu_p * self.p2))
+        return self.p_c + 3 * self.p2 * a_s**2
+
+    def __repr__(self) -> str:
+        return (f"Koiter(n = {self.n}, {self.kind}, {self.parameter}_c = {self.p_c:.10g}, "
+                f"b = {self.b:.5g}, p2 = {self.p2:.5g})")
+
+
+@dataclass(frozen=True)
+class LobedFold:
+    """A fold of a lobed branch: the parameter there, the mass-norm amplitude of the
+    critical mode, the error estimate of p (the change on the finer discretisation) and
+    the branch point after which it lies."""
+
+    p: float
+    amplitude: float
+    error_estimate: float
+    index: int
+    y: np.ndarray = field(repr=False, default=None)
+
+
+@dataclass(frozen=True)
+class LobedBranch:
+    """The branch of n-lobed equilibria from a bifurcation (:func:`follow_bifurcation`).
+
+    Attributes:
+        n, K, degree: the discretisation (harmonics 0..K n, Chebyshev degree).
+        parameter: the name of p.
+        koiter: the coefficients at the bifurcation (:class:`Koiter`).
+        p_c, p_c_error: the bifurcation in this discretisation and its change on the finer
+            one.
+        p: the parameter at every point; amplitude: phi . y there.
+        harmonics: (points, K + 1) the mass norm of each harmonic's displacement, harmonic 0
+            measured from the axisymmetric branch at p_c.
+        folds: the lobed branch's folds (:class:`LobedFold`).
+        stop: why the continuation stopped.
+        discretisation: the :class:`shellbvp.fourier2d.Fourier2D`; states: y per point.
+    """
+
+    n: int
+    K: int
+    degree: int
+    parameter: str
+    koiter: Koiter
+    p_c: float
+    p_c_error: float
+    p: np.ndarray
+    amplitude: np.ndarray
+    harmonics: np.ndarray
+    folds: tuple
+    stop: str
+    discretisation: Fourier2D = field(repr=False, default=None)
+    states: tuple = field(repr=False, default=())
+
+    @property
+    def snap(self) -> float:
+        """Where the shell leaves this equilibrium path: the bifurcation itself if
+        subcritical, else the lobed branch's first fold (NaN: none before the stop)."""
+        if self.koiter.kind == "subcritical":
+            return self.p_c
+        return self.folds[0].p if self.folds else math.nan
+
+    def columns(self) -> dict:
+        """The branch as named columns (p, the amplitude, |y_k| per harmonic k)."""
+        out = {self.parameter: self.p, "amplitude": self.amplitude}
+        for j in range(self.K + 1):
+            out[f"harmonic_{j * self.n}"] = self.harmonics[:, j]
+        return out
+
+    def __repr__(self) -> str:
+        end = (f"fold at {self.parameter} = {self.folds[0].p:.10g} +- "
+               f"{self.folds[0].error_estimate:.1e}" if self.folds else f"stop: {self.stop}")
+        return (f"LobedBranch(n = {self.n}, {self.koiter.kind}, {self.parameter}_c = "
+                f"{self.p_c:.10g}, {len(self.p)} points, {end})")
+
+
+# --- the bifurcation in the 2D discretisation ------------------------------------------------
+def _axisymmetric(f: Fourier2D, p: float, y0=None, tol: float = 1e-13, maxiter: int = 20):
+    """y_0(p): the axisymmetric equilibrium in f's unknowns (Newton on harmonic 0)."""
+    b = f.block(0)
+    y = np.zeros(f.size) if y0 is None else np.array(y0, dtype=float)
+    for _ in range(maxiter):
+        g, Hm = f.hessian(y, p, gradient=True)
+        d = np.linalg.solve(Hm[b, b], g[b])
+        y[b] -= d
+        if np.linalg.norm(d) <= tol * (1 + np.linalg.norm(y)):
+            return y, Hm
+    raise ConvergenceError(f"the axisymmetric state at {f.eq.scene.parameter} = {p:.10g} "
+                           f"did not converge in the 2D discretisation")
+
+
+def _lowest(f: Fourier2D, y, p):
+    """(mu, phi, H): the lowest eigenpair of the Hessian's block n at (y, p)."""
+    Hm = f.hessian(y, p)
+    b = f.block(f.n)
+    mu, V = np.linalg.eigh(Hm[b, b])
+    phi = np.zeros(f.size)
+    phi[b] = V[:, 0]
+    return float(mu[0]), phi, Hm
+
+
+def critical_point(f: Fourier2D, p_guess: float | None = None, *, tol: float = CRITICAL_TOL):
+    """(p_c, y_0(p_c), phi, mu_n'(p_c)): the bifurcation into f's harmonic n in the 2D
+    discretisation (module docstring), by the secant method on mu_n(p) from ``p_guess``
+    (default the base equilibrium's p). The mode's sign: its largest normal displacement is
+    positive."""
+    p0 = f.eq.p if p_guess is None else float(p_guess)
+    scale = max(abs(p0), 1.0)
+    y = None
+    ys = {}
+
+    def mu(p):
+        nonlocal y
+        y, _ = _axisymmetric(f, p, y)
+        ys[p] = y.copy()
+        return _lowest(f, y, p)[0]
+
+    pa, pb = p0, p0 + 1e-6 * scale
+    ma, mb = mu(pa), mu(pb)
+    step = math.inf
+    for _ in range(30):
+        if mb == ma:
+            break
+        pc = pb - mb * (pb - pa) / (mb - ma)
+        pa, ma = pb, mb
+        pb, mb = pc, mu(pc)
+        step = abs(pb - pa)
+        if step <= tol * scale:
+            break
+    # the secant's last steps wander at mu's round-off floor: accepted below FLOOR_TOL
+    if not step <= FLOOR_TOL * scale:
+        raise ConvergenceError(f"the bifurcation into n = {f.n} was not located in the 2D "
+                               f"discretisation near {p0:.8g} (last secant step {step:.1e})")
+    p_c = pb
+    y_c = ys[p_c]
+    d = 1e-5 * scale
+    mu_p = (mu(p_c + d) - mu(p_c - d)) / (2 * d)
+    _, phi, _ = _lowest(f, y_c, p_c)
+    w = _normal_displacement(f, phi)
+    if w[np.argmax(np.abs(w))] < 0:
+        phi = -phi
+    return p_c, y_c, phi, float(mu_p)
+
+
+def _normal_displacement(f: Fourier2D, y) -> np.ndarray:
+    """The normal displacement of harmonic n's part of y at the Gauss points (at omega = 0,
+    where cos(n omega) = 1): U . (sin theta, 0, cos theta) of the base state."""
+    Gk = f.G[f.ks.index(f.n)]
+    U = Gk[:3] @ y[f.block(f.n)]                    # (3 components, points): U (not U', U'')
+    th = f.base.theta.reshape(-1)
+    return U[0] * np.sin(th) + U[2] * np.cos(th)
+
+
+def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
+    """(:class:`Koiter`, psi, y_0'(p_c)) at the bifurcation ``critical`` (the tuple of
+    :func:`critical_point`; computed when None). ``direction``: the way p moved along the
+    axisymmetric branch to the bifurcation."""
+    p_c, y_c, phi, mu_p = critical_point(f) if critical is None else critical
+    Hm = f.hessian(y_c, p_c)
+    B = f.third(y_c, phi, phi, p_c)
+    n = f.size
+    A = np.zeros((n + 1, n + 1))
+    A[:n, :n], A[:n, n], A[n, :n] = Hm, phi, phi
+    psi = np.linalg.solve(A, np.append(-0.5 * B, 0.0))[:n]
+    E3 = float(psi @ B)
+    E4 = f.fourth(y_c, phi, p_c)
+    p2 = -(E3 + E4 / 6.0) / mu_p
+    w_max = float(np.max(np.abs(_normal_displacement(f, phi))))
+    h = float(f.eq.scene.h)
+    b0 = f.block(0)
+    dy0 = np.zeros(n)
+    dy0[b0] = -np.linalg.solve(Hm[b0, b0], f.parameter_gradient(y_c, p_c)[b0])
+    K = Koiter(n=f.n, p_c=float(p_c), parameter=f.eq.scene.parameter, p2=float(p2),
+               b=float(p2 * h**2 / (w_max**2 * p_c)) if p_c != 0 else math.nan,
+               mu_p=mu_p, w_max=w_max, h=h, direction=math.copysign(1.0, direction),
+               E3=E3, E4=float(E4))
+    return K, psi, dy0
+
+
+# --- following the lobed branch --------------------------------------------------------------
+def _point_at(system, y, p, monitor, tol) -> Point:
+    """The branch point with the monitor prescribed, from (y, p), as a continuation
+    :class:`Point` (exact tangent)."""
+    from .continuation.arclength import _point
+    from .continuation.newton import tangent
+
+    res = newton(system, y, p, 1.0, 0.0, monitor, tol=tol, maxiter=25, fail_fast=False)
+    if not res.ok:
+        raise ConvergenceError(f"lobed branch: no solution at amplitude {monitor:.6g}: "
+                               f"{res.history}")
+    v, _, dp = tangent(res)
+    return _point(res, v, dp, 1.0, 0.0, system.size)
+
+
+def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
+    """f's state y as g's unknowns (g finer: Chebyshev coefficients padded, harmonics
+    added as zero)."""
+    out = []
+    P = f.base.s.shape[0]
+    for j, k in enumerate(g.ks):
+        nb = g.degree + 1
+        if k in f.ks:
+            c = f.coefficients(y)[f.ks.index(k)].reshape(P, 3, f.degree + 1)
+            pad = np.zeros((P, 3, nb))
+            pad[:, :, :f.degree + 1] = c
+            out.append(pad.reshape(-1))
+        else:
+            out.append(np.zeros(P * 3 * nb))
+    return g.reduce(out)
+
+
+def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
+    """The fold of f's lobed branch near (y, p) at about ``amplitude``."""
+    system = LobedSystem(f, critical[2])
+    width = 0.05 * abs(amplitude)
+    for _ in range(6):
+        lo = _point_at(system, y, p, amplitude - width, tol)
+        hi = _point_at(system, y, p, amplitude + width, tol)
+        if lo.slope * hi.slope < 0:
+            fold = locate_fold(system, lo, hi)
+            return LobedFold(float(fold.p), float(fold.monitor), math.nan, -1, fold.U)
+        width *= 2
+    raise ConvergenceError(f"the lobed fold near amplitude {amplitude:.6g} was not bracketed "
+                           f"on the finer discretisation")
+
+
+def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
+                       start: float | None = None, p_stop=None,
+                       amplitude_max: float = math.inf, n_folds: int = 1,
+                       options: ContinuationOptions = LOBED_OPTIONS,
+                       estimate_error: bool = True, progress=None) -> LobedBranch:
+    """The branch of n-lobed equilibria from a bifurcation found by
+    :func:`shellbvp.first_instability`, followed to its ``n_folds``-th fold or a stated end.
+
+    Arguments:
+        instability: a :class:`shellbvp.Instability` of kind ``"bifurcation"`` (it carries
+            the axisymmetric equilibrium there).
+        K: harmonics 0, n, ..., K n; degree: Chebyshev degree (default that of
+            :mod:`shellbvp.harmonics`).
+        start: the mass-norm amplitude of the first point (default: where Koiter's
+            parabola has moved p by 1e-4 of p_c, at least 1e-3).
+        p_stop: (low, high) the parameter range to stay in (default: unbounded).
+        amplitude_max: stop once the amplitude exceeds this.
+        n_folds: folds to pass before stopping (0: none, follow to the other ends).
+        options: the continuation's settings.
+        estimate_error: locate p_c and the folds again on the finer discretisation (degree
+            + ``DEGREE_STEP``, K + 1): their change is the error estimate.
+        progress: called with every accepted continuation point.
+
+    Raises:
+        ValueError: an instability that is not a bifurcation, bad arguments.
+        ConvergenceError: the start or the continuation fails (with what converged).
+    """
+    from .instability import Instability
+
+    if not isinstance(instability, Instability) or instability.kind != "bifurcation":
+        raise ValueError("instability must be a shellbvp.Instability of kind 'bifurcation' "
+                         f"(from first_instability), got {instability!r}")
+    eq = instability.equilibrium
+    if not isinstance(eq, Equilibrium):
+        raise ValueError("instability carries no equilibrium: compute it with "
+                         "shellbvp.first_instability")
+    if not (isinstance(K, (int, np.integer)) and 1 <= K <= 8):
+        raise ValueError(f"K must be an integer in [1, 8] (harmonic 0 and n at least), got {K!r}")
+    if not (isinstance(n_folds, (int, np.integer)) and n_folds >= 0):
+        raise ValueError(f"n_folds must be a non-negative integer, got {n_folds!r}")
+    if not (isinstance(amplitude_max, (int, float)) and amplitude_max > 0):
+        raise ValueError(f"amplitude_max must be positive, got {amplitude_max!r}")
+    if start is not None and not (isinstance(start, (int, float)) and start > 0
+                                  and math.isfinite(start)):
+        raise ValueError(f"start must be a positive amplitude, got {start!r}")
+    direction = math.copysign(1.0, instability.p - instability.scan[0][0]) \
+        if instability.scan else 1.0
+    f = Fourier2D(eq, instability.n, int(K), degree=degree)
+    crit = critical_point(f, instability.p)
+    kc, psi, dy0 = koiter(f, crit, direction=direction)
+    p_c, y_c, phi, _ = crit
+    if start is None:
+        start = max(math.sqrt(1e-4 * max(abs(p_c), 1.0) / max(abs(kc.p2), 1e-300)), 1e-3)
+    a0 = float(start)
+    dp0 = kc.p2 * a0**2
+    system = LobedSystem(f, phi)
+    y0 = y_c + dp0 * dy0 + a0 * phi + a0**2 * psi
+    first = newton(system, y0, p_c + dp0, 1.0, 0.0, a0, tol=options.newton_tol, maxiter=25,
+                   fail_fast=False)
+    if not first.ok:
+        raise ConvergenceError(f"branch switching: no lobed state at amplitude {a0:.3g} "
+                               f"from Koiter's prediction ({first.history})")
+    lo, hi = (-math.inf, math.inf) if p_stop is None else map(float, p_stop)
+    stop = "max_steps"
+    try:
+        pts, brackets = pseudo_arclength(
+            system, first.U, first.p, options=options, p_stop=(lo, hi),
+            monitor_stop=(-amplitude_max, amplitude_max),
+            n_folds=n_folds if n_folds > 0 else None,
+            direction=math.copysign(1.0, first.p - p_c) if first.p != p_c else 1.0,
+            progress=progress)
+    except ConvergenceError as exc:
+        if exc.partial is None:
+            raise
+        pts, brackets = exc.partial
+        stop = f"continuation stalled: {exc}"
+    else:
+        last = pts[-1]
+        if n_folds and len(brackets) >= n_folds:
+            stop = f"after {n_folds} fold(s)"
+        elif not lo <= last.p <= hi:
+            stop = f"{f.eq.scene.parameter} left [{lo:g}, {hi:g}]"
+        elif abs(last.monitor) > amplitude_max:
+            stop = f"amplitude beyond {amplitude_max:g}"
+    folds = []
+    for i, j in brackets:
+        fold = locate_fold(system, pts[i], pts[j])
+        folds.append(LobedFold(float(fold.p), float(fold.monitor), math.nan, i, fold.U))
+    p_c_error = math.nan
+    if estimate_error:
+        g = Fourier2D(eq, instability.n, int(K) + 1, degree=f.degree + DEGREE_STEP)
+        crit_g = critical_point(g, p_c)
+        p_c_error = abs(crit_g[0] - p_c)
+        phi_g = crit_g[2]
+        fine = []
+        for fo in folds:
+            yg = _transfer(fo.y, f, g)
+            # the finer mode may have the other sign: continue the amplitude's
+            a_g = float(phi_g @ yg)
+            ff = _fold_on(g, crit_g, yg, fo.p, a_g, options.newton_tol)
+            fine.append(LobedFold(fo.p, fo.amplitude, abs(ff.p - fo.p), fo.index, fo.y))
+        folds = fine
+    ys = tuple(q.U for q in pts)
+    harm = np.array([[np.linalg.norm((q.U - y_c)[f.block(k)]) for k in f.ks] for q in pts])
+    return LobedBranch(n=f.n, K=f.K, degree=f.degree, parameter=f.eq.scene.parameter,
+                       koiter=kc, p_c=float(p_c), p_c_error=p_c_error,
+                       p=np.array([q.p for q in pts]),
+                       amplitude=np.array([q.monitor for q in pts]), harmonics=harm,
+                       folds=tuple(folds), stop=stop, discretisation=f, states=ys)
