@@ -229,15 +229,22 @@ class Fourier2D:
                     self._lids.append((e, sigma, b.ends[(i, side)][3]))
         self._loaded = [e.loaded and e.displacement is None for e in sc.ends]
 
-    def fields(self, p=None) -> np.ndarray:
-        """(P m, fields) at the Gauss points and parameter p (default the base's)."""
+    def fields(self, p=None, xp=np):
+        """(P m, fields) at the Gauss points and parameter p (default the base's); ``xp``
+        the array module (``jax.numpy`` to trace p)."""
         from .fields import point_fields
 
         sc = self.eq.scene
-        p = self.eq.p if p is None else float(p)
+        p = self.eq.p if p is None else p
         c = np.asarray(sc.field_parameters, dtype=float)
-        return np.concatenate([point_fields(sc, i, self.base.s[i], p, c, np).T
+        return xp.concatenate([point_fields(sc, i, self.base.s[i], p, c, xp).T
                                for i in range(self.base.s.shape[0])])
+
+    def _end_r0(self, e: int) -> float:
+        """The reference radius at end e (0: the first, 1: the last)."""
+        i, s = (0, self.base.pieces[0][0]) if e == 0 else \
+            (self.base.s.shape[0] - 1, self.base.pieces[-1][1])
+        return float(self._r0_at(i, s))
 
     def _check_p(self, p):
         p = self.eq.p if p is None else float(p)
@@ -252,37 +259,24 @@ class Fourier2D:
         loads = np.zeros((2, 2))                   # per end: (Q_r, Q_z) per radian
         for e, end in enumerate(sc.ends):
             if self._loaded[e]:
-                i, s = (0, self.base.pieces[0][0]) if e == 0 else \
-                    (self.base.s.shape[0] - 1, self.base.pieces[-1][1])
-                r0 = float(self._r0_at(i, s))
-                Q = end.conjugate(p, r0)
-                loads[e] = Q[:2]
+                loads[e] = end.conjugate(p, self._end_r0(e))[:2]
         return P, loads
 
     def _rates(self, p):
         """The p-derivatives of what the energy takes from the parameter: the fields at the
         Gauss points (a JAX jvp of the scene's fields, as the compiled programs trace them),
         the pressure and the dead end loads."""
-        from .fields import point_fields
         from .jaxsetup import jax
         import jax.numpy as jnp
         from .scene import load_rate
 
         sc = self.eq.scene
-        c = np.asarray(sc.field_parameters, dtype=float)
-
-        def fields(q):
-            return jnp.concatenate([point_fields(sc, i, self.base.s[i], q, c, jnp).T
-                                    for i in range(self.base.s.shape[0])])
-
-        dF = np.asarray(jax.jvp(fields, (float(p),), (1.0,))[1])
+        dF = np.asarray(jax.jvp(lambda q: self.fields(q, jnp), (float(p),), (1.0,))[1])
         dP = 0.0 if sc.pressure is None else load_rate(sc.pressure, p, 1)
         dloads = np.zeros((2, 2))
         for e, end in enumerate(sc.ends):
             if self._loaded[e]:
-                i, s = (0, self.base.pieces[0][0]) if e == 0 else \
-                    (self.base.s.shape[0] - 1, self.base.pieces[-1][1])
-                dloads[e] = end.conjugate(p, float(self._r0_at(i, s)), 1)[:2]
+                dloads[e] = end.conjugate(p, self._end_r0(e), 1)[:2]
         return dF, dP, dloads
 
     def _r0_at(self, i, s):
