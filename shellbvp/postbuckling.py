@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .continuation import ContinuationOptions, locate_fold, newton, pseudo_arclength
-from .continuation.arclength import Point
+from .continuation import (ContinuationOptions, Point, locate_fold, newton, pseudo_arclength,
+                           tangent)
 from .errors import ConvergenceError
 from .fourier2d import Fourier2D
 from .results import Equilibrium
@@ -316,15 +316,13 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
 def _point_at(system, y, p, monitor, tol) -> Point:
     """The branch point with the monitor prescribed, from (y, p), as a continuation
     :class:`Point` (exact tangent)."""
-    from .continuation.arclength import _point
-    from .continuation.newton import tangent
 
     res = newton(system, y, p, 1.0, 0.0, monitor, tol=tol, maxiter=25, fail_fast=False)
     if not res.ok:
         raise ConvergenceError(f"lobed branch: no solution at amplitude {monitor:.6g}: "
                                f"{res.history}")
     v, _, dp = tangent(res)
-    return _point(res, v, dp, 1.0, 0.0, system.size)
+    return Point.from_newton(res, v, dp)
 
 
 def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:

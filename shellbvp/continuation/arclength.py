@@ -56,11 +56,16 @@ class Point:
         dm = monitor - self.monitor
         return self.U + dm * self.dU / self.tangent[0], self.p + dm * self.slope
 
-
-def _point(res: NewtonResult, v, dp, sign, arclength, n) -> Point:
-    nrm = math.sqrt(float(v @ v) / n + dp * dp)
-    v, dp = sign * v / nrm, sign * dp / nrm
-    return Point(res.p, res.m, arclength, res.U, (float(res.gm @ v), dp), v, res.iterations)
+    @classmethod
+    def from_newton(cls, res: NewtonResult, v, dp, *, sign: float = 1.0,
+                    arclength: float = 0.0) -> "Point":
+        """The point of a converged corrector ``res`` with its tangent (v, dp) (from
+        :func:`~.newton.tangent`), normalised to unit length in the RMS norm of the module
+        docstring and oriented by ``sign``."""
+        n = res.U.size
+        nrm = math.sqrt(float(v @ v) / n + dp * dp)
+        v, dp = sign * v / nrm, sign * dp / nrm
+        return cls(res.p, res.m, arclength, res.U, (float(res.gm @ v), dp), v, res.iterations)
 
 
 def _fold_ahead(a: Point, b: Point, reach: float):
@@ -133,7 +138,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
         raise ConvergenceError(f"continuation: no solution at the start {p0:g}: {why}Newton "
                                f"history {res.history}", round_off=bool(res.diagnosis))
     v, _, dp = tangent(res)
-    pts = [_point(res, v, dp, math.copysign(1.0, direction * dp), 0.0, n)]
+    pts = [Point.from_newton(res, v, dp, sign=math.copysign(1.0, direction * dp))]
     if progress:
         progress(pts[0])
     brackets = []
@@ -150,7 +155,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
         else:
             sign = 1.0 if float(v @ b.dU) / n + dp * b.tangent[1] > 0 else -1.0  # keep it
         arc = b.arclength + math.hypot(res.m - b.monitor, res.p - b.p)
-        return _point(res, v, dp, sign, arc, n)
+        return Point.from_newton(res, v, dp, sign=sign, arclength=arc)
 
     def accept(new, b):
         if new.tangent[1] * b.tangent[1] < 0:
