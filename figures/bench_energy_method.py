@@ -36,7 +36,7 @@ def main(argv=None):
     for tol in (1e-8, 1e-10):
         for name, fn in (("spectral", spectral), ("energy", energy)):
             t0 = time.perf_counter()
-            first = fn(tol)
+            fn(tol)
             cold = time.perf_counter() - t0
             times = []
             for _ in range(repeats):

@@ -164,6 +164,7 @@ class Fourier2D:
         self.size = self.offsets[-1]
         # (9, P m, size_k): (U, U', U'') at the Gauss points from each harmonic's unknowns
         self.G = tuple(np.einsum("apj,jr->apr", D, Z) for Z in self.Z)
+        self.imperfection = None
         self._base_state()
         self._ends()
 
@@ -188,7 +189,7 @@ class Fourier2D:
         import copy
 
         out = copy.copy(self)
-        for name in ("_trig", "_data"):
+        for name in ("_trig", "_data", "_change"):
             out.__dict__.pop(name, None)
         out._grid(int(points), full_period)
         return out
@@ -287,6 +288,80 @@ class Fourier2D:
         c = np.asarray(sc.field_parameters, dtype=float)
         return point_fields(sc, i, np.array([s]), self.eq.p, c, np)[Kin.R0, 0]
 
+    # --- an imperfect reference -----------------------------------------------------------
+    def imperfect(self, shape, amplitude: float) -> "Fourier2D":
+        """This discretisation for the shell whose reference surface is the surface of
+        revolution displaced by ``amplitude`` times ``shape`` (a displacement field of this
+        class, as unknowns y: e.g. the critical mode). The target forms change by the
+        reference forms' change, exact in the amplitude (:meth:`reference_change`), and the
+        area element with them (:func:`shellbvp.kinematics.target_matrices`). Where the
+        target is the reference (no stimulus) this is the imperfect stress-free surface;
+        with a stimulus, the stimulus changes the imperfect shell's forms as it changes the
+        perfect shell's."""
+        import copy
+
+        shape = np.asarray(shape, dtype=float)
+        if shape.shape != (self.size,):
+            raise ValueError(f"shape must be a vector of this discretisation's {self.size} "
+                             f"unknowns, got shape {shape.shape}")
+        if not (isinstance(amplitude, (int, float)) and math.isfinite(amplitude)):
+            raise ValueError(f"amplitude must be a finite number, got {amplitude!r}")
+        out = copy.copy(self)
+        for name in ("_data", "_change"):
+            out.__dict__.pop(name, None)
+        out.imperfection = (shape, float(amplitude))
+        return out
+
+    @cached_property
+    def _reference_x0(self) -> np.ndarray:
+        """(3 orders, 3 components, P m): x, x_s, x_ss of the reference surface of
+        revolution at the Gauss points in the frame (e_r, e_omega, e_z), parametrised by
+        its arclength: (r0, 0, z0), (cos th0, 0, -sin th0), th0' (-sin th0, 0, -cos th0),
+        th0' that of th0's Legendre interpolant (as in ``_base_state``)."""
+        from .fields import reference_point
+
+        b, sc = self.base, self.eq.scene
+        P, m = b.s.shape
+        pts = [reference_point(sc, i, b.s[i], np) for i in range(P)]
+        r, z, th = (np.stack([np.broadcast_to(getattr(q, a), (m,)) for q in pts])
+                    for a in ("r", "z", "theta"))
+        dth = np.stack([_legendre_derivative(th[i], m, 2.0 / (hi - lo))
+                        for i, (lo, hi) in enumerate(b.pieces)])
+        c, sn, zero = np.cos(th), np.sin(th), np.zeros_like(th)
+        return np.stack([np.stack([r, zero, z]), np.stack([c, zero, -sn]),
+                         np.stack([-dth * sn, zero, -dth * c])]).reshape(3, 3, P * m)
+
+    def reference_change(self, shape, amplitude, xp=np):
+        """(P m, J, 6): the change of the reference surface's forms (a11, a12, a22, b11,
+        b12, b22) at every point when it is displaced by amplitude times shape (exact;
+        ``xp=jax.numpy`` to trace the amplitude)."""
+        from .jaxsetup import jax
+
+        C, S, ks = self._trig
+        data = dict(G=tuple(self.G), x0=self._reference_x0, C=C, S=S, ks=ks)
+        forms = jax.vmap(jax.vmap(_H._forms))
+        q0 = _synthesis(0.0 * np.asarray(shape), data)
+        out = forms(_synthesis(amplitude * np.asarray(shape), data)) - forms(q0)
+        return out if xp is not np else np.asarray(out)
+
+    @cached_property
+    def _change(self):
+        if self.imperfection is None:
+            return None
+        return self.reference_change(*self.imperfection)
+
+    def imperfection_gradient(self, y, shape, p=None) -> np.ndarray:
+        """d(dE/dy)/de at y: the gradient's rate in the amplitude e of an imperfection of
+        the given shape (:meth:`imperfect`), at e = 0 (a jvp, exact)."""
+        from .jaxsetup import jax
+        import jax.numpy as jnp
+
+        if self.imperfection is not None:
+            raise ValueError("imperfection_gradient is taken about the perfect shell")
+        dchange = jax.jvp(lambda e: self.reference_change(shape, e, jnp), (0.0,), (1.0,))[1]
+        return np.asarray(self._programs["grad_e"](np.asarray(y, dtype=float), *self._args(p),
+                                                   dchange))
+
     # --- the state on the grid ------------------------------------------------------------
     def split(self, y):
         """The unknowns of each harmonic."""
@@ -325,7 +400,7 @@ class Fourier2D:
     def _data(self) -> dict:
         """The arrays the compiled programs take (all but y and the parameter's fields)."""
         C, S, ks = self._trig
-        return dict(G=tuple(self.G), x0=self.x0, C=C, S=S, ks=ks,
+        return dict(G=tuple(self.G), x0=self.x0, C=C, S=S, ks=ks, change=self._change,
                     wq=self.base.wq.reshape(-1), ww=self.w_weights,
                     ends=tuple(tuple(rows) for rows in self._end_rows),
                     lids=np.array([sigma * z for _, sigma, z in self._lids]),
@@ -388,8 +463,11 @@ class Fourier2D:
         y = np.asarray(y, dtype=float)
         q = self.state(y)                                           # (P m, J, 18)
         Pm, J = q.shape[:2]
-        kernel = _H._hessian_kernel(self.eq.scene.model, self.eq.scene.material)
-        g18, H18 = kernel(q.reshape(Pm * J, 18), np.repeat(F, J, axis=0), mat, h, P)
+        change = self._change
+        kernel = _H._hessian_kernel(self.eq.scene.model, self.eq.scene.material,
+                                    change is not None)
+        extra = () if change is None else (change.reshape(Pm * J, 6),)
+        g18, H18 = kernel(q.reshape(Pm * J, 18), np.repeat(F, J, axis=0), *extra, mat, h, P)
         g18 = np.asarray(g18).reshape(Pm, J, 18)
         H18 = np.asarray(H18).reshape(Pm, J, 18, 18)
         with threadpool_limits(1, user_api="blas"):
@@ -556,31 +634,25 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
     from . import kinematics as Kin
     from .forms import reduced_energy
 
-    def dot(a, b):
-        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    dot, cross = _H._dot, _H._cross
 
-    def cross(a, b):
-        return jnp.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                          a[0] * b[1] - a[1] * b[0]])
-
-    def density(q, F, P, mat, h):
-        """The energy per ds domega at a point: W t g1 g2 r0 + (P / 3) x . (x_s x x_o)."""
-        x, xs, xo, xss, xso, xoo = (q[3 * i:3 * i + 3] for i in range(6))
-        nrm = cross(xs, xo)
-        N = nrm / jnp.sqrt(dot(nrm, nrm))
-        a = jnp.array([[dot(xs, xs), dot(xs, xo)], [dot(xs, xo), dot(xo, xo)]])
-        b = jnp.array([[dot(xss, N), dot(xso, N)], [dot(xso, N), dot(xoo, N)]])
-        (a11, a22), (b11, b22) = Kin.target_forms(F)
-        abar = jnp.array([[a11, 0.0], [0.0, a22]])
-        bbar = jnp.array([[b11, 0.0], [0.0, b22]])
+    def density(q, F, P, mat, h, change=None):
+        """The energy per ds domega at a point: W t sqrt(det abar) + (P / 3) x . (x_s x x_o)
+        (``change``: the target forms' change there, an imperfect reference)."""
+        ab = _H._forms(q)
+        a = jnp.array([[ab[0], ab[1]], [ab[1], ab[2]]])
+        b = jnp.array([[ab[3], ab[4]], [ab[4], ab[5]]])
+        abar, bbar, area = Kin.target_matrices(F, change)
         kw = dict(nu=mat) if material == "koiter" else dict(lam=mat)
         rb = Kin.RHOB.start
         W = reduced_energy(a, b, abar, bbar, h=h * F[Kin.THICKNESS], model=model,
                            material=material, rhob=(F[rb], F[rb + 1], F[rb + 2]), **kw)
-        return W * Kin.area_factor(F) + P * dot(x, nrm) / 3.0
+        return W * area + P * dot(q[0:3], cross(q[3:6], q[6:9])) / 3.0
 
     dens = jax.vmap(jax.vmap(density, in_axes=(0, None, None, None, None)),
                     in_axes=(0, 0, None, None, None))
+    dens_imperfect = jax.vmap(jax.vmap(density, in_axes=(0, None, None, None, None, 0)),
+                              in_axes=(0, 0, None, None, None, 0))
 
     def end_values(y, data, e):
         """(3 components, harmonic): U^k at end e."""
@@ -593,7 +665,9 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
     def energy(y, data, F, P, loads, mat, h):
         q = _synthesis(y, data)
         ww = data["ww"]
-        E = jnp.sum(data["wq"][:, None] * ww[None, :] * dens(q, F, P, mat, h))
+        d = dens(q, F, P, mat, h) if data["change"] is None else \
+            dens_imperfect(q, F, P, mat, h, data["change"])
+        E = jnp.sum(data["wq"][:, None] * ww[None, :] * d)
         for e in range(2):          # the dead end loads (per radian), harmonic 0 only
             U = end_values(y, data, e)
             E = E - 2 * math.pi * (loads[e, 0] * U[0, 0] + loads[e, 1] * U[2, 0])
@@ -617,6 +691,11 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
         return jax.jvp(lambda F_, P_, L_: grad(y, data, F_, P_, L_, mat, h),
                        (F, P, loads), (dF, dP, dloads))[1]
 
+    def grad_e(y, data, F, P, loads, mat, h, dchange):
+        """The gradient's rate along a change of the target forms (from none)."""
+        return jax.jvp(lambda c: grad(y, dict(data, change=c), F, P, loads, mat, h),
+                       (jnp.zeros_like(dchange),), (dchange,))[1]
+
     def d3(y, u, v, *args):
         return jax.jvp(lambda z: hvp(z, u, *args), (y,), (v,))[1]
 
@@ -624,7 +703,7 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
         return u @ jax.jvp(lambda z: d3(z, u, u, *args), (y,), (u,))[1]
 
     return dict(energy=jax.jit(energy), grad=jax.jit(grad), hvp=jax.jit(hvp),
-                grad_p=jax.jit(grad_p), d3=jax.jit(d3), d4=jax.jit(d4),
+                grad_p=jax.jit(grad_p), grad_e=jax.jit(grad_e), d3=jax.jit(d3), d4=jax.jit(d4),
                 q=jax.jit(_synthesis))
 
 

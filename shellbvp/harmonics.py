@@ -174,11 +174,25 @@ def _cross(a, b):
                       a[0] * b[1] - a[1] * b[0]])
 
 
+def _forms(q):
+    """(a11, a12, a22, b11, b12, b22) of a surface from its local numbers q = (x, x_s, x_o,
+    x_ss, x_so, x_oo) (JAX): a = x_i . x_j, b = x_ij . N, N the unit normal x_s x x_o."""
+    import jax.numpy as jnp
+
+    xs, xo, xss, xso, xoo = (q[3 * i:3 * i + 3] for i in range(1, 6))
+    nrm = _cross(xs, xo)
+    N = nrm / jnp.sqrt(_dot(nrm, nrm))
+    return jnp.stack([_dot(xs, xs), _dot(xs, xo), _dot(xo, xo),
+                      _dot(xss, N), _dot(xso, N), _dot(xoo, N)])
+
+
 @lru_cache(maxsize=None)
-def _hessian_kernel(model: str, material: str):
+def _hessian_kernel(model: str, material: str, imperfect: bool = False):
     """jit(vmap) of the Hessian of the density per ds domega in the 18 local numbers q =
     (x, x_s, x_o, x_ss, x_so, x_oo), with per-point fields F (:data:`shellbvp.kinematics.
-    FIELDS`) and the scalars (material parameter, h, pressure). The reduced energy enters
+    FIELDS`) and the scalars (material parameter, h, pressure); ``imperfect``: a per-point
+    change of the target forms too (:func:`shellbvp.kinematics.target_matrices`), the
+    argument after F. The reduced energy enters
     through the six entries of (a, b), so its Hessian is taken in those six (36 second-order
     directions, not 324) and chained through the geometry: H_q = J^T H_ab J + sum_k
     dW/d(ab)_k Hess_q (ab)_k, the last a Hessian of the cheap geometric map only."""
@@ -188,38 +202,34 @@ def _hessian_kernel(model: str, material: str):
     from . import kinematics as K
     from .forms import reduced_energy
 
-    def forms(q):
-        xs, xo, xss, xso, xoo = (q[3 * i:3 * i + 3] for i in range(1, 6))
-        nrm = _cross(xs, xo)
-        N = nrm / jnp.sqrt(_dot(nrm, nrm))
-        return jnp.stack([_dot(xs, xs), _dot(xs, xo), _dot(xo, xo),
-                          _dot(xss, N), _dot(xso, N), _dot(xoo, N)])
+    forms = _forms
 
-    def energy(ab, F, mat, h):
+    def energy(ab, F, change, mat, h):
         a = jnp.array([[ab[0], ab[1]], [ab[1], ab[2]]])
         b = jnp.array([[ab[3], ab[4]], [ab[4], ab[5]]])
-        (a11, a22), (b11, b22) = K.target_forms(F)
-        abar = jnp.array([[a11, 0.0], [0.0, a22]])
-        bbar = jnp.array([[b11, 0.0], [0.0, b22]])
+        abar, bbar, area = K.target_matrices(F, change)
         kw = dict(nu=mat) if material == "koiter" else dict(lam=mat)
         rb = K.RHOB.start
         return reduced_energy(a, b, abar, bbar, h=h * F[K.THICKNESS], model=model,
                               material=material, rhob=(F[rb], F[rb + 1], F[rb + 2]),
-                              **kw) * K.area_factor(F)
+                              **kw) * area
 
     def load(q):
         return _triple(q[0:3], q[3:6], q[6:9]) / 3.0
 
-    def hessian(q, F, mat, h, P):
+    def hessian(q, F, change, mat, h, P):
         ab = forms(q)
-        gW = jax.grad(energy)(ab, F, mat, h)
-        HW = jax.jacfwd(jax.grad(energy))(ab, F, mat, h)
+        gW = jax.grad(energy)(ab, F, change, mat, h)
+        HW = jax.jacfwd(jax.grad(energy))(ab, F, change, mat, h)
         J = jax.jacfwd(forms)(q)
         Hg = jax.hessian(lambda x: jnp.dot(gW, forms(x)))(q)
         grad = J.T @ gW + P * jax.grad(load)(q)
         return grad, J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
 
-    return jit(jax.vmap(hessian, in_axes=(0, 0, None, None, None)))
+    if imperfect:
+        return jit(jax.vmap(hessian, in_axes=(0, 0, 0, None, None, None)))
+    return jit(jax.vmap(lambda q, F, mat, h, P: hessian(q, F, None, mat, h, P),
+                        in_axes=(0, 0, None, None, None)))
 
 
 def _local_map(n: int) -> np.ndarray:

@@ -34,7 +34,8 @@ through-thickness stimulus (rhob1, rhob2, rhob3).
 from __future__ import annotations
 
 __all__ = ["FIELDS", "N_FIELDS", "G1", "G2", "KB1", "KB2", "PRESSURE", "R0", "THICKNESS",
-           "RHOB", "principal_state", "area_factor", "target_forms", "energy_per_length",
+           "RHOB", "principal_state", "area_factor", "target_forms", "target_matrices",
+           "energy_per_length",
            "W_ARGUMENTS"]
 
 #: the fields of a point of the meridian, in the order of the vector F every stage passes
@@ -69,6 +70,26 @@ def target_forms(F):
     (the reference meridian is parametrised by arclength)."""
     a11, a22 = F[G1] ** 2, (F[G2] * F[R0]) ** 2
     return (a11, a22), (F[KB1] * a11, F[KB2] * a22)
+
+
+def target_matrices(F, change=None):
+    """(abar, bbar, area) for the reduced energy of general forms
+    (:func:`shellbvp.forms.reduced_energy`): the target forms as 2 x 2 matrices in (s, omega)
+    (JAX) and the area factor t sqrt(det abar). ``change``: the six numbers (da11, da12,
+    da22, db11, db12, db22) added to the forms where the reference surface departs from a
+    surface of revolution (an imperfection, :meth:`shellbvp.fourier2d.Fourier2D.imperfect`);
+    None for the axisymmetric target (diagonal forms, :func:`area_factor`)."""
+    import jax.numpy as jnp
+
+    (a11, a22), (b11, b22) = target_forms(F)
+    if change is None:
+        return (jnp.array([[a11, 0.0], [0.0, a22]]), jnp.array([[b11, 0.0], [0.0, b22]]),
+                area_factor(F))
+    d = change
+    abar = jnp.array([[a11 + d[0], d[1]], [d[1], a22 + d[2]]])
+    bbar = jnp.array([[b11 + d[3], d[4]], [d[4], b22 + d[5]]])
+    area = F[THICKNESS] * jnp.sqrt(abar[0, 0] * abar[1, 1] - abar[0, 1] ** 2)
+    return abar, bbar, area
 
 
 def energy_per_length(W, X, F, material_parameter, h):

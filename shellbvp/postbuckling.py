@@ -55,7 +55,7 @@ from .fourier2d import Fourier2D
 from .results import Equilibrium
 
 __all__ = ["LobedSystem", "Koiter", "LobedBranch", "LobedFold", "critical_point", "koiter",
-           "follow_bifurcation", "DEGREE_STEP", "LOBED_OPTIONS"]
+           "imperfect_limit", "follow_bifurcation", "DEGREE_STEP", "LOBED_OPTIONS"]
 
 #: degree increase of the finer discretisation that gives every lobed fold its error
 DEGREE_STEP = 8
@@ -101,6 +101,9 @@ class Koiter:
         h: the thickness the normalisation uses.
         direction: +1 or -1, the way p moved along the axisymmetric branch to p_c.
         E3, E4: E'''[phi, phi, psi] and E''''[phi, phi, phi, phi].
+        gamma: phi . dG/de, the force along phi per unit amplitude e of an imperfection of
+            the critical mode's shape in the reference surface (:meth:`Fourier2D.imperfect`,
+            e on the mode of unit mass norm).
     """
 
     n: int
@@ -114,6 +117,7 @@ class Koiter:
     direction: float
     E3: float
     E4: float
+    gamma: float = math.nan
     a: float = 0.0
 
     @property
@@ -126,15 +130,21 @@ class Koiter:
         """p on the lobed branch at mass-norm amplitude a, to second order."""
         return self.p_c + self.p2 * np.asarray(amplitude, dtype=float) ** 2
 
-    def limit(self, gamma: float, imperfection) -> np.ndarray:
+    def limit(self, imperfection) -> np.ndarray:
         """The limit load of the imperfect shell to leading order: p_s = p_c + 3 p2 a_s^2,
-        a_s^3 = -gamma e / (2 mu_n' p2), for imperfection amplitudes e (NaN where the
-        bifurcation is supercritical: no limit point near it)."""
+        a_s^3 = -gamma e / (2 mu_n' p2), for imperfection amplitudes e of the critical
+        mode's shape (unit mass norm; NaN where the bifurcation is supercritical: no limit
+        point near it)."""
         e = np.asarray(imperfection, dtype=float)
         if self.kind == "supercritical":
             return np.full(e.shape, math.nan)
-        a_s = np.cbrt(-gamma * e / (2 * self.mu_p * self.p2))
+        a_s = np.cbrt(-self.gamma * e / (2 * self.mu_p * self.p2))
         return self.p_c + 3 * self.p2 * a_s**2
+
+    def knockdown(self, xi) -> np.ndarray:
+        """p_s / p_c (:meth:`limit`) for imperfections of the critical mode's shape whose
+        largest normal displacement is xi times the thickness (e = xi h / w_max)."""
+        return self.limit(np.asarray(xi, dtype=float) * self.h / self.w_max) / self.p_c
 
     def __repr__(self) -> str:
         return (f"Koiter(n = {self.n}, {self.kind}, {self.parameter}_c = {self.p_c:.10g}, "
@@ -145,13 +155,15 @@ class Koiter:
 class LobedFold:
     """A fold of a lobed branch: the parameter there, the mass-norm amplitude of the
     critical mode, the error estimate of p (the change on the finer discretisation) and
-    the branch point after which it lies."""
+    the branch point after which it lies; ``error_note`` says why an error estimate is
+    NaN (the fold not found again on the finer discretisation)."""
 
     p: float
     amplitude: float
     error_estimate: float
     index: int
     y: np.ndarray = field(repr=False, default=None)
+    error_note: str = ""
 
 
 @dataclass(frozen=True)
@@ -305,10 +317,11 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
     b0 = f.block(0)
     dy0 = np.zeros(n)
     dy0[b0] = -np.linalg.solve(Hm[b0, b0], f.parameter_gradient(y_c, p_c)[b0])
+    gamma = float(phi @ f.imperfection_gradient(y_c, phi, p_c))
     K = Koiter(n=f.n, p_c=float(p_c), parameter=f.eq.scene.parameter, p2=float(p2),
                b=float(p2 * h**2 / (w_max**2 * p_c)) if p_c != 0 else math.nan,
                mu_p=mu_p, w_max=w_max, h=h, direction=math.copysign(1.0, direction),
-               E3=E3, E4=float(E4))
+               E3=E3, E4=float(E4), gamma=gamma)
     return K, psi, dy0
 
 
@@ -343,18 +356,70 @@ def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
 
 
 def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
-    """The fold of f's lobed branch near (y, p) at about ``amplitude``."""
+    """The fold of f's lobed branch near (y, p) at about ``amplitude``: branch points with
+    the amplitude prescribed, marched outward from it on both sides (each Newton solve from
+    its neighbour's state, the step growing) until dp/da changes sign between neighbours,
+    never closer to zero amplitude than half of it (where the branch meets the
+    axisymmetric one). Raises ConvergenceError where that fails."""
     system = LobedSystem(f, critical[2])
-    width = 0.05 * abs(amplitude)
-    for _ in range(6):
-        lo = _point_at(system, y, p, amplitude - width, tol)
-        hi = _point_at(system, y, p, amplitude + width, tol)
-        if lo.slope * hi.slope < 0:
-            fold = locate_fold(system, lo, hi)
-            return LobedFold(float(fold.p), float(fold.monitor), math.nan, -1, fold.U)
-        width *= 2
+    mid = _point_at(system, y, p, amplitude, tol)
+    pts = [mid]
+    step = 0.02 * abs(amplitude)
+    low, high = mid, mid
+    for _ in range(12):
+        a_lo = low.monitor - math.copysign(step, amplitude)
+        if abs(a_lo) >= 0.5 * abs(amplitude):
+            low = _point_at(system, low.U, low.p, a_lo, tol)
+            pts.insert(0, low)
+        high = _point_at(system, high.U, high.p, high.monitor + math.copysign(step, amplitude),
+                         tol)
+        pts.append(high)
+        for u, v in zip(pts, pts[1:]):
+            if u.slope * v.slope < 0:
+                fold = locate_fold(system, u, v)
+                return LobedFold(float(fold.p), float(fold.monitor), math.nan, -1, fold.U)
+        step *= 1.5
     raise ConvergenceError(f"the lobed fold near amplitude {amplitude:.6g} was not bracketed "
-                           f"on the finer discretisation")
+                           f"on the finer discretisation (amplitudes {pts[0].monitor:.6g} to "
+                           f"{pts[-1].monitor:.6g})")
+
+
+def imperfect_limit(f: Fourier2D, critical, kc: Koiter, amplitude: float, *,
+                    options: ContinuationOptions = LOBED_OPTIONS) -> LobedFold:
+    """The limit load of the shell with an imperfection of the critical mode's shape
+    (:meth:`Fourier2D.imperfect`, ``amplitude`` e on the mode of unit mass norm), computed
+    directly: its equilibria from before the bifurcation (where Koiter's law, ``kc``, puts
+    the limit twice as far from p_c, but not closer to p = 0 than 0.1 p_c; the imperfect
+    shell's state there from the perfect one's) continued along the loading to their first
+    fold,
+    located by Brent's method on dp/da. The check of :meth:`Koiter.limit` that does not go
+    through the expansion.
+
+    Raises:
+        ValueError: a supercritical bifurcation (no limit point near it), bad amplitude.
+        ConvergenceError: no fold before the continuation stopped.
+    """
+    if kc.kind != "subcritical":
+        raise ValueError("imperfect_limit needs a subcritical bifurcation: a supercritical "
+                         "one has no limit point near it")
+    if not (isinstance(amplitude, (int, float)) and amplitude != 0
+            and math.isfinite(amplitude)):
+        raise ValueError(f"amplitude must be a finite nonzero number, got {amplitude!r}")
+    p_c, y_c, phi, _ = critical
+    drop = 2.0 * (p_c - float(kc.limit(amplitude)))
+    if p_c != 0 and abs(drop) > 0.9 * abs(p_c):  # a large knockdown: start from 0.1 p_c
+        drop = math.copysign(0.9 * abs(p_c), drop)
+    p0 = p_c - drop
+    y0, _ = _axisymmetric(f, p0, y_c)
+    system = LobedSystem(f.imperfect(phi, float(amplitude)), phi)
+    pts, brackets = pseudo_arclength(system, y0, p0, options=options, n_folds=1,
+                                     direction=kc.direction)
+    if not brackets:
+        raise ConvergenceError(f"imperfect shell (amplitude {amplitude:.3g}): no limit point "
+                               f"before the continuation stopped at {pts[-1].p:.8g}")
+    i, j = brackets[0]
+    fold = locate_fold(system, pts[i], pts[j])
+    return LobedFold(float(fold.p), float(fold.monitor), math.nan, i, fold.U)
 
 
 def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
@@ -402,10 +467,11 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
     if start is not None and not (isinstance(start, (int, float)) and start > 0
                                   and math.isfinite(start)):
         raise ValueError(f"start must be a positive amplitude, got {start!r}")
-    direction = math.copysign(1.0, instability.p - instability.scan[0][0]) \
+    # in the scene's units (instability.p may be scaled, the equilibrium and scan are not)
+    direction = math.copysign(1.0, eq.p - instability.scan[0][0]) \
         if instability.scan else 1.0
     f = Fourier2D(eq, instability.n, int(K), degree=degree)
-    crit = critical_point(f, instability.p)
+    crit = critical_point(f, eq.p)
     kc, psi, dy0 = koiter(f, crit, direction=direction)
     p_c, y_c, phi, _ = crit
     if start is None:
@@ -456,7 +522,12 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
             yg = _transfer(fo.y, f, g)
             # the finer mode may have the other sign: continue the amplitude's
             a_g = float(phi_g @ yg)
-            ff = _fold_on(g, crit_g, yg, fo.p, a_g, options.newton_tol)
+            try:
+                ff = _fold_on(g, crit_g, yg, fo.p, a_g, options.newton_tol)
+            except ConvergenceError as exc:     # the fold stands; its error is unknown
+                fine.append(LobedFold(fo.p, fo.amplitude, math.nan, fo.index, fo.y,
+                                      error_note=str(exc)))
+                continue
             fine.append(LobedFold(fo.p, fo.amplitude, abs(ff.p - fo.p), fo.index, fo.y))
         folds = fine
     ys = tuple(q.U for q in pts)
