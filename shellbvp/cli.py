@@ -1,5 +1,5 @@
 """The ``shellbvp`` command line: snap curvature, continuation diagrams and sweeps of caps,
-and scene files.
+stability and post-buckling, and scene files.
 
     shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
@@ -7,6 +7,8 @@ and scene files.
     shellbvp stability --theta 0.5236 --h 0.01 --lam 1 [--json]
     shellbvp follow FILE [--csv OUT.csv] [--json]
     shellbvp stability FILE [--json]
+    shellbvp postbuckling --theta 0.5236 --h 0.01 --lam 1 [--K 2] [--csv lobed.csv]
+    shellbvp postbuckling FILE [--n-folds 1] [--p-min P] [--p-max P] [--csv OUT.csv]
 
 FILE is a scene file (TOML, :mod:`shellbvp.scenefile`), or the name of an example installed
 with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.examples`).
@@ -14,6 +16,18 @@ with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.ex
 "error_estimate", <observables>}], "last": {"p", <observables>}, "stop"}``, ``stability``
 ``{"kind", "n", "p", "error_estimate"}`` (and ``"stop"`` for none), in the file's units
 (null for what is undefined).
+
+``postbuckling`` finds the first instability as ``stability`` does; a fold (or none) has no
+bifurcation to follow and is printed as such. At a bifurcation into n waves it prints the
+bifurcation located again in the discretisation of the lobed states
+(:func:`shellbvp.follow_bifurcation`: harmonics 0, n, ..., K n), Koiter's p2 and b and
+whether it is sub- or supercritical, the folds of the branch of n-lobed equilibria followed
+from it (to the ``--n-folds``-th, or a bound: ``--p-min``/``--p-max``, for a cap also
+spelled ``--kappa-min``/``--kappa-max``, by default kappa >= 0 for a cap, where its branch
+starts, and a scene file's range from ``from`` to ``to``; ``--amplitude-max``), why it
+stopped, and the snap (the bifurcation when subcritical, else the lobed branch's first
+fold). ``--csv`` writes the lobed branch: the parameter, the critical mode's amplitude and
+each harmonic's norm per point.
 
 Bad arguments or a bad scene file exit with code 2 and one line on stderr (a file's line
 starts with its key); a solver failure exits with 1. A
@@ -35,6 +49,8 @@ import sys
 
 import numpy as np
 
+from .harmonics import DEGREE as HARMONICS_DEGREE
+from .postbuckling import DEGREE_STEP
 from .sweep import CHUNK_SIZE
 
 
@@ -96,6 +112,44 @@ def _sweep(a, ce, opts) -> int:
     return 1 if c["failed"] else 0
 
 
+def _int_in(lo, hi=None):
+    """An argparse type: an integer in [lo, hi] (no upper bound for hi None)."""
+    allowed = f"in [{lo}, {hi}]" if hi is not None else f">= {lo}"
+
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            v = None
+        if v is None or v < lo or (hi is not None and v > hi):
+            raise argparse.ArgumentTypeError(f"expected an integer {allowed}, got {text!r}")
+        return v
+    return parse
+
+
+def _bound(text):
+    """An argparse type: a number, -inf or inf (no bound), not nan."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if math.isnan(v):
+        raise argparse.ArgumentTypeError(f"expected a number (or -inf, inf: no bound), got "
+                                         f"{text!r}")
+    return v
+
+
+def _positive(text):
+    """An argparse type: a positive number (inf allowed: no bound)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return v
+
+
 def _material(a) -> str:
     """The material and only the parameters it uses."""
     return {"cg": f"material = cg, lam = {a.lam:g}, model = {a.model}",
@@ -139,6 +193,33 @@ def parser():
                          "the cap of the options below")
     _common(st, method=False)
     st.add_argument("--json", action="store_true", help="print one JSON object")
+    pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
+                                             "scene file's branch: Koiter's coefficients, the "
+                                             "branch of n-lobed equilibria and the snap")
+    pb.add_argument("file", nargs="?", default=None, metavar="FILE",
+                    help="a scene file (TOML) or an installed example's name; without it, "
+                         "the cap of the options below")
+    _common(pb, method=False)
+    pb.add_argument("--K", type=_int_in(1, 8), default=2,
+                    help="harmonics 0, n, ..., K n of the lobed states, in [1, 8] (default 2)")
+    pb.add_argument("--degree", type=_int_in(8, 160 - DEGREE_STEP), default=None,
+                    help=f"Chebyshev degree of the lobed states, in [8, {160 - DEGREE_STEP}] "
+                         f"(default {HARMONICS_DEGREE}; the error estimates use "
+                         f"degree + {DEGREE_STEP})")
+    pb.add_argument("--n-folds", type=_int_in(0), default=1,
+                    help="stop after this many folds of the lobed branch, >= 0 (0: at a "
+                         "bound or max_steps only; default 1)")
+    pb.add_argument("--p-min", "--kappa-min", dest="p_min", type=_bound, default=None,
+                    help="stop the lobed branch below this parameter value (a cap: kappa R0, "
+                         "default 0, where its branch starts; a scene file: its parameter "
+                         "in its units, default the bottom of its range; --p-min=-inf: none)")
+    pb.add_argument("--p-max", "--kappa-max", dest="p_max", type=_bound, default=None,
+                    help="stop the lobed branch above this parameter value (a cap: default "
+                         "none; a scene file: default the top of its range; --p-max=inf: none)")
+    pb.add_argument("--amplitude-max", type=_positive, default=math.inf,
+                    help="stop once the critical mode's (mass-norm) amplitude exceeds this, > 0 "
+                         "(default none)")
+    pb.add_argument("--csv", default=None, help="write the lobed branch to this CSV")
     f = sub.add_parser("follow", help="continue a scene file from its parameter's 'from' to "
                                       "'to', observing its named observables")
     f.add_argument("file", metavar="FILE", help="a scene file (TOML) or an installed "
@@ -215,6 +296,139 @@ def _stability_file(sf, a) -> None:
         if found.kind != "none" else f" (the branch ended: {found.stop})"))
 
 
+def _bounds(a, default, origin) -> tuple:
+    """(low, high): the lobed branch's bounds on the parameter, ``--p-min`` / ``--p-max``
+    where given, else ``default``'s (None: unbounded; ``origin`` says where the default
+    comes from); a low not below high is bad input (_BadOption, before anything is
+    computed)."""
+    lo = a.p_min if a.p_min is not None else default[0]
+    hi = a.p_max if a.p_max is not None else default[1]
+    lo = -math.inf if lo is None else lo
+    hi = math.inf if hi is None else hi
+    if not lo < hi:
+        if a.p_min is not None and a.p_max is not None:
+            msg = f"{a.p_min_name} {lo:g} must lie below {a.p_max_name} {hi:g}"
+        elif a.p_min is not None:
+            msg = f"{a.p_min_name} {lo:g} must lie below {hi:g}, the default upper bound " \
+                  f"({origin})"
+        else:
+            msg = f"{a.p_max_name} {hi:g} must lie above {lo:g}, the default lower bound " \
+                  f"({origin})"
+        raise _BadOption(msg)
+    return lo, hi
+
+
+def _postbuckling_file(sf, a) -> None:
+    label = f"[{sf.units.parameter_label}]" if sf.units.parameter_label else ""
+    bounds = _bounds(a, sorted((sf.start, sf.stop)), "the file's range")
+    found = sf.first_instability(tol=a.tol)
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    head = f"{sf.title or sf.source}: first instability: "
+    if found.kind != "bifurcation":
+        print(head + ("the axisymmetric fold at "
+                      f"{sf.parameter} = {found.p:.10g}{unit} +- {found.error_estimate:.1e}"
+                      if found.kind == "fold" else
+                      f"none up to {sf.parameter} = {found.p:.10g}{unit} (the branch ended: "
+                      f"{found.stop})") + ": no bifurcation to follow")
+        return
+    print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}{unit}")
+    _postbuckling(a, found.instability, name=sf.parameter, unit=unit, scale=sf.scale,
+                  bounds=bounds, column=f"{sf.parameter}{label}")
+
+
+def _postbuckling(a, ins, *, name, unit, scale, bounds, column) -> None:
+    """Follow the lobed branch from the bifurcation ``ins`` (the engine's
+    :class:`shellbvp.Instability`, parameter t) and print it in the parameter's own units, p
+    = scale t (a cap: kappa R0, scale 1). ``bounds``: (low, high) in those units (from
+    :func:`_bounds`, infinite for none)."""
+    from .postbuckling import follow_bifurcation
+
+    lo, hi = bounds
+
+    def show(t):
+        return f"{name} = {scale * t:.12g}{unit}"
+
+    p_ins = scale * ins.p
+    if not lo < p_ins < hi:       # the lobed branch starts there: a bound must not exclude it
+        low = p_ins <= lo
+        opt = (a.p_min_name if a.p_min is not None else None) if low else \
+            (a.p_max_name if a.p_max is not None else None)
+        what = f"{opt} {lo if low else hi:g}" if opt else \
+            f"the default bounds [{lo:g}, {hi:g}]"
+        raise _BadOption(f"{what} excludes the bifurcation at {show(ins.p)}, where the lobed "
+                         f"branch starts" + (f": {opt} must lie {'below' if low else 'above'} "
+                                             f"it" if opt else ""))
+    t_stop = tuple(sorted((lo / scale, hi / scale)))
+    tty = sys.stderr.isatty()
+
+    def progress(pt):
+        print(f"\rshellbvp: lobed branch: {show(pt.p)}, amplitude {pt.monitor:.4g}   ",
+              end="", file=sys.stderr, flush=True)
+
+    if tty:
+        print(f"shellbvp: a bifurcation into n = {ins.n} at {show(ins.p)}: Koiter's "
+              f"coefficients and the lobed branch (K = {a.K}), then the error estimates on "
+              f"a finer discretisation (~1-2 min)...", file=sys.stderr, flush=True)
+    try:
+        br = follow_bifurcation(ins, K=a.K, degree=a.degree, n_folds=a.n_folds,
+                                amplitude_max=a.amplitude_max,
+                                p_stop=None if lo == -hi == -math.inf else t_stop,
+                                progress=progress if tty else None)
+    finally:
+        if tty:
+            print(file=sys.stderr, flush=True)
+    if a.csv:
+        _lobed_csv(br, a.csv, column, scale)
+    k = br.koiter
+    stop = br.stop
+    if br.stop == f"{br.parameter} left [{t_stop[0]:g}, {t_stop[1]:g}]":
+        stop = f"{name} left [{lo:g}, {hi:g}]{unit}"   # in the parameter's own units
+    print(f"bifurcation: n = {br.n} at {show(br.p_c)} +- {abs(scale) * br.p_c_error:.1e} "
+          f"(harmonics 0..{br.K * br.n} step {br.n}, degree {br.degree})")
+    print(f"Koiter: p2 = {scale * k.p2:.6g}{unit}, b = {k.b:.6g}: {k.kind} (p = p_c + p2 a^2 "
+          f"= p_c (1 + b xi^2), a the mode's mass-norm amplitude, xi = a w_max / h)")
+    for j, fo in enumerate(br.folds, 1):
+        err = f"+- {abs(scale) * fo.error_estimate:.1e}" if math.isfinite(fo.error_estimate) \
+            else f"(no error estimate: {fo.error_note or 'not computed'})"
+        print(f"lobed fold {j}: {show(fo.p)} {err}, amplitude {fo.amplitude:.6g}")
+    if not br.folds:
+        print("lobed folds: none before the stop")
+    print(f"lobed branch: {len(br.p)} points, {len(br.folds)} fold(s); stop: {stop}"
+          + (f" -> {a.csv}" if a.csv else ""))
+    if k.kind == "subcritical":
+        print(f"snap: at the bifurcation, {show(br.p_c)} +- {abs(scale) * br.p_c_error:.1e} "
+              f"(subcritical: the lobed branch turns back)")
+    elif br.folds:
+        fo = br.folds[0]
+        err = f" +- {abs(scale) * fo.error_estimate:.1e}" if math.isfinite(fo.error_estimate) \
+            else ""
+        print(f"snap: at the first lobed fold, {show(fo.p)}{err} (supercritical)")
+    else:
+        print("snap: not found (supercritical, and no lobed fold before the stop)")
+
+
+def _lobed_csv(br, path, column, scale) -> None:
+    """The lobed branch's columns (:meth:`shellbvp.LobedBranch.columns`) written atomically,
+    the parameter's column named and valued as the other commands' CSVs have it."""
+    import csv
+    import io
+
+    from .cache import atomic_write_text
+
+    cols = br.columns()
+    cols = {column: scale * np.asarray(cols.pop(br.parameter)), **cols}
+    buf = io.StringIO()
+    wr = csv.writer(buf, lineterminator="\n")
+    wr.writerow(cols)
+    for row in zip(*cols.values()):
+        wr.writerow([repr(float(v)) for v in row])
+    atomic_write_text(path, buf.getvalue())
+
+
+class _BadOption(ValueError):
+    """An option that does not fit what was computed: exit 2, without a file's prefix."""
+
+
 def main(argv=None) -> int:
     p = parser()
     a = p.parse_args(argv)
@@ -226,22 +440,36 @@ def main(argv=None) -> int:
 
     if hasattr(a, "tol") and not (0 < a.tol < 1):
         p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
+    if a.command == "postbuckling":       # the spellings given, for the messages
+        given = argv if argv is not None else sys.argv[1:]
+        for dest, names in (("p_min", ("--p-min", "--kappa-min")),
+                            ("p_max", ("--p-max", "--kappa-max"))):
+            spelled = [n for x in given for n in names if x == n or x.startswith(n + "=")]
+            setattr(a, dest + "_name", spelled[-1] if spelled else
+                    names[1 if a.file is None else 0])
     if getattr(a, "file", None) is not None:
         sf = _scene_file(p, a, argv)
         try:
-            (_follow_file if a.command == "follow" else _stability_file)(sf, a)
-        except ValueError as exc:
+            {"follow": _follow_file, "stability": _stability_file,
+             "postbuckling": _postbuckling_file}[a.command](sf, a)
+        except _BadOption as exc:
+            p.exit(2, f"shellbvp: error: {exc}\n")
+        except (ValueError, NotImplementedError) as exc:
+            # NotImplementedError: a shell the lobed discretisation does not handle yet
             p.exit(2, f"shellbvp: error: {a.file}: {exc}\n")
         except ConvergenceError as exc:
             p.exit(1, f"shellbvp: solver failure: {exc}\n")
         return 0
 
     opts = dict(model=a.model, material=a.material, nu=a.nu)
-    if a.command != "stability":
+    if hasattr(a, "method"):
         opts["method"] = a.method
     try:
         if a.command != "sweep":
-            ce.scene(a.theta, a.h, a.lam, model=a.model, material=a.material, nu=a.nu)
+            sc = ce.scene(a.theta, a.h, a.lam, model=a.model, material=a.material, nu=a.nu)
+        if a.command == "postbuckling":
+            bounds = _bounds(a, (0.0, None), f"where the cap's branch starts; "
+                                             f"{a.p_min_name}=-inf removes it")
         if sys.stderr.isatty():    # bad input has been reported above, in one line
             print("shellbvp: preparing the solver (tracing and compiling it for this model "
                   "takes ~10-30 s once per process)...", file=sys.stderr, flush=True)
@@ -272,6 +500,18 @@ def main(argv=None) -> int:
                 f" at kappa R0 = {r.p:.8f} +- {r.error_estimate:.1e}, w / R0 = {r.w:.6f}"
                 if r.kind != "none" else ""))
             print(f"harmonics n = 0..{r.cutoff} checked ({r.cutoff_reason})")
+        elif a.command == "postbuckling":
+            r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, **opts)
+            print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, {_material(a)}, "
+                  f"T = Theta sqrt(R0/h0) = {a.theta / math.sqrt(a.h):.4g}")
+            if r.kind != "bifurcation":
+                print("first instability: " + (
+                    f"the axisymmetric snap (fold) at kappa R0 = {r.p:.8f} +- "
+                    f"{r.error_estimate:.1e}, w / R0 = {r.w:.6f}" if r.kind == "fold" else
+                    "none up to full eversion") + ": no bifurcation to follow")
+                return 0
+            _postbuckling(a, r, name="kappa R0", unit="", scale=1.0,
+                          bounds=bounds, column=sc.parameter_column)
         elif a.command == "branch":
             br = ce.branch(a.theta, a.h, a.lam, kappa_max=a.kappa_max, tol=a.tol, **opts)
             br.to_csv(a.csv)
