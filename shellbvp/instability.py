@@ -194,9 +194,7 @@ def _fold_in(branch, i):
 
 
 def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
-    from .driver import solve
-
-    sc, name = branch.scene, branch.scene.parameter
+    name = branch.scene.parameter
     fold = _fold_in(branch, i)
     eq_a = branch.equilibrium(i - 1)
     p_a, p_b = float(eq_a.p), float(branch.points[i].p)
@@ -217,22 +215,17 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     elif 0 in low and low[0] < 0 and not candidates:
         raise ConvergenceError(f"the n = 0 eigenvalue is negative between {name} = {p_a:.8g} "
                                f"and {p_b:.8g} with no fold of the branch there")
-    # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root
+    # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root, in
+    # p, or where the bracket ends at the fold in the monitor m (p is a coordinate of the
+    # branch up to the fold, but a solve at prescribed p next to it is ill-conditioned: two
+    # solutions a distance ~ sqrt(p_fold - p) apart; one at prescribed m is not)
     from scipy.optimize import brentq
 
     best = None
     eq_b = fold.equilibrium if fold is not None else branch.equilibrium(i)
-    solved = {p_a: eq_a, p_b: eq_b}
-
-    def equilibrium_at(p):
-        """Solved from the nearest equilibrium already known (the bracket can be a long
-        continuation step: one natural-parameter jump across it may not converge)."""
-        near = solved[min(solved, key=lambda q: abs(q - p))]
-        if near.p == p:
-            return near
-        eq = solve(sc, p, method=branch.method, guess=near, estimate_error=False)
-        solved[p] = eq
-        return eq
+    at = _monitor_solver(branch, i, fold, eq_a) if fold is not None else _parameter_solver(
+        branch, eq_a, eq_b)
+    x_a, x_b = (branch.points[i - 1].monitor, fold.monitor) if fold is not None else (p_a, p_b)
 
     # refine first the harmonic whose crossing the end values put earliest; another one
     # is refined only where its eigenvalue is already negative at that root (it crosses
@@ -247,33 +240,34 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         if best is not None:
             if modes(best[3], [n], count=1, degree=degree)[n].lowest >= 0:
                 continue
-            p_b = best[1]
+            x_b, p_b = best[4], best[1]
         state = {"log": []}
 
-        def mu(p, deg=degree):
-            eq = equilibrium_at(p)
+        def mu(x, deg=degree):
+            eq = at(x)
             state["eq"] = eq
             val = modes(eq, [n], count=1, degree=deg)[n].lowest
-            state["log"].append((p, val))
+            state["log"].append((float(eq.p), val))
             return val
 
         try:
-            root = brentq(mu, p_a, p_b, xtol=tol * max(abs(p_a), abs(p_b), 1e-12),
-                          rtol=1e-14, maxiter=100)
+            scale = max(abs(x_a), abs(x_b), 1e-12)
+            root = brentq(mu, x_a, x_b, xtol=tol * scale, rtol=1e-14, maxiter=100)
             # the perturbation degree's error: mu at the root on a finer degree, over the
-            # slope of mu between the last evaluations on either side of the root
+            # slope of mu in p between the last evaluations on either side of the root
+            state["eq"] = at(root)
+            p_root = float(state["eq"].p)
             log = sorted(state["log"])
-            lo = max((q for q in log if q[0] <= root), default=log[0])
-            hi = min((q for q in log if q[0] > root), default=log[-1])
+            lo = max((q for q in log if q[0] <= p_root), default=log[0])
+            hi = min((q for q in log if q[0] > p_root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
-            state["eq"] = equilibrium_at(root)
             fine = modes(state["eq"], [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             raise ConvergenceError(f"the bifurcation into n = {n} between {name} = {p_a:.10g} "
                                    f"and {p_b:.10g} was not located: {exc}") from exc
-        if best is None or _before(root, best[1], p_a, p_b):
-            best = (n, root, abs(fine / slope), state["eq"])
-    n, p, err, eq = best
+        if best is None or _before(p_root, best[1], p_a, p_b):
+            best = (n, p_root, abs(fine / slope), state["eq"], root)
+    n, p, err, eq, _ = best
     if err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
         raise ConvergenceError(
             f"the bifurcation into n = {n} at {name} ~ {p:.6g} (bracket {p_a:.6g} .. "
@@ -284,6 +278,55 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     return Instability("bifurcation", n, float(p), float(eq.w),
                        float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),
                        rows, equilibrium=eq)
+
+
+def _parameter_solver(branch, eq_a, eq_b):
+    """The branch's equilibrium at a prescribed parameter value, each solved from the
+    nearest one already known (a bracket can be a long continuation step: one
+    natural-parameter jump across it may not converge)."""
+    from .driver import solve
+
+    solved = {float(eq_a.p): eq_a, float(eq_b.p): eq_b}
+
+    def at(p):
+        near = solved[min(solved, key=lambda q: abs(q - p))]
+        if near.p == p:
+            return near
+        eq = solve(branch.scene, p, method=branch.method, guess=near, estimate_error=False)
+        solved[p] = eq
+        return eq
+    return at
+
+
+def _monitor_solver(branch, i, fold, eq_a):
+    """The branch's equilibrium at a prescribed monitor value between point i - 1 (its
+    equilibrium eq_a) and the fold after it: bordered Newton with m fixed (well-posed
+    through the fold) on the branch's discretisation, from the nearest solve along its exact
+    tangent (the fold itself is its own equilibrium, located on a discretisation of its
+    own)."""
+    from .continuation import ContinuationOptions, newton, tangent
+    from .results import equilibrium_from
+
+    a = branch.points[i - 1]
+    # (m, U, p, dU/dm, dp/dm) of every solve: the predictors
+    known = [(a.monitor, a.U, a.p, a.dU / a.tangent[0], a.slope)]
+    solved = {a.monitor: eq_a, fold.monitor: fold.equilibrium}
+    tol = ContinuationOptions().newton_tol
+
+    def at(m):
+        if m not in solved:
+            m0, U0, p0, dU0, g0 = min(known, key=lambda k: abs(k[0] - m))
+            res = newton(branch.system, U0 + (m - m0) * dU0, p0 + (m - m0) * g0, 1.0, 0.0, m,
+                         tol=tol, maxiter=25, fail_fast=False)
+            if not res.ok:
+                raise ConvergenceError(f"no equilibrium at monitor {m:.10g} between the "
+                                       f"branch point and its fold: {res.history}")
+            v, _, dp = tangent(res)
+            dm = float(res.gm @ v)
+            known.append((m, res.U, res.p, v / dm, dp / dm))
+            solved[m] = equilibrium_from(branch.system, res.U, res.p, stats=branch.stats)
+        return solved[m]
+    return at
 
 
 def _before(p, q, p_a, p_b) -> bool:

@@ -195,3 +195,24 @@ def test_pressure_with_a_free_end_is_refused_beyond_axisymmetry():
     eq = shellbvp.solve(sc, 1e-6)
     with pytest.raises(ValueError, match="first end is free"):
         H.modes(eq, n=[2])
+
+
+@pytest.mark.slow
+def test_a_bifurcation_just_before_the_fold_is_located_in_the_monitor():
+    """Relaxed CG, lam = 1, T = 4.5 (Theta = 0.45): n = 2 loses stability 4e-5 before the
+    axisymmetric fold, inside the continuation step that holds the fold. A solve at
+    prescribed kappa that close to the fold is ill-conditioned (it used to fail there); the
+    root search runs in the monitor instead. Checked: the fold (located by the continuation,
+    dp/dm = 0) comes after the bifurcation, the n = 2 eigenvalue is zero at the located root
+    (relative to its value at half that curvature) and positive at the axisymmetric
+    equilibrium solved independently (natural parameter) 2e-3 before it."""
+    ins = ce.first_instability(0.45, H0, 1.0, material="cg")
+    assert ins.kind == "bifurcation" and ins.n == 2
+    fold = ce.snap_curvature(0.45, H0, 1.0, material="cg")
+    assert 0 < fold.kappa_s - ins.p < 1e-3
+    mu = H.modes(ins.equilibrium, [2], count=1)[2].lowest
+    mu0 = H.modes(ce.equilibrium(0.5 * ins.p, 0.45, H0, 1.0, material="cg"), [2],
+                  count=1)[2].lowest
+    assert mu0 > 0 and abs(mu) < 1e-6 * mu0
+    before = ce.equilibrium(ins.p - 2e-3, 0.45, H0, 1.0, material="cg")
+    assert H.modes(before, [2], count=1)[2].lowest > 0
