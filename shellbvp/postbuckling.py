@@ -182,6 +182,7 @@ class LobedBranch:
         folds: the lobed branch's folds (:class:`LobedFold`).
         stop: why the continuation stopped.
         discretisation: the :class:`shellbvp.fourier2d.Fourier2D`; states: y per point.
+        critical: (p_c, y_c, phi, mu) in that discretisation (:func:`critical_point`).
     """
 
     n: int
@@ -198,6 +199,19 @@ class LobedBranch:
     stop: str
     discretisation: Fourier2D = field(repr=False, default=None)
     states: tuple = field(repr=False, default=())
+    critical: tuple = field(repr=False, default=())
+
+    def imperfect_limit(self, xi: float, *,
+                        options: ContinuationOptions = LOBED_OPTIONS) -> LobedFold:
+        """The limit load of this shell with an imperfection of the critical mode's shape
+        whose largest normal deviation is ``xi`` thicknesses, computed directly
+        (:func:`imperfect_limit`; its leading-order estimate is ``koiter.knockdown(xi) *
+        p_c``)."""
+        if not (isinstance(xi, (int, float)) and xi > 0 and math.isfinite(xi)):
+            raise ValueError(f"xi must be a positive number of thicknesses, got {xi!r}")
+        k = self.koiter
+        return imperfect_limit(self.discretisation, self.critical, k,
+                               float(xi) * k.h / k.w_max, options=options)
 
     @property
     def snap(self) -> float:
@@ -357,31 +371,38 @@ def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
 
 def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
     """The fold of f's lobed branch near (y, p) at about ``amplitude``: branch points with
-    the amplitude prescribed, marched outward from it on both sides (each Newton solve from
-    its neighbour's state, the step growing) until dp/da changes sign between neighbours,
-    never closer to zero amplitude than half of it (where the branch meets the
-    axisymmetric one). Raises ConvergenceError where that fails."""
+    the amplitude prescribed, marched outward from it on both sides (each Newton solve
+    predicted along its neighbour's exact tangent; the step grows by 1.5 after a success
+    and halves after a failure) until dp/da changes sign between neighbours, never closer
+    to zero amplitude than half of it (where the branch meets the axisymmetric one), at most
+    a doubling of it. Raises ConvergenceError where that fails."""
     system = LobedSystem(f, critical[2])
-    mid = _point_at(system, y, p, amplitude, tol)
-    pts = [mid]
-    step = 0.02 * abs(amplitude)
-    low, high = mid, mid
-    for _ in range(12):
-        a_lo = low.monitor - math.copysign(step, amplitude)
-        if abs(a_lo) >= 0.5 * abs(amplitude):
-            low = _point_at(system, low.U, low.p, a_lo, tol)
-            pts.insert(0, low)
-        high = _point_at(system, high.U, high.p, high.monitor + math.copysign(step, amplitude),
-                         tol)
-        pts.append(high)
+    sign = math.copysign(1.0, amplitude)
+    ends = [_point_at(system, y, p, amplitude, tol)]           # [low, high] once both moved
+    ends.append(ends[0])
+    pts = [ends[0]]
+    step = [0.02 * abs(amplitude)] * 2
+    for _ in range(40):
+        for side, direction in ((0, -1.0), (1, 1.0)):
+            last = ends[side]
+            a = last.monitor + direction * sign * step[side]
+            if not 0.5 <= a / amplitude <= 2.0 or step[side] < 1e-6 * abs(amplitude):
+                continue
+            try:
+                q = _point_at(system, *last.predicted(a), a, tol)
+            except ConvergenceError:
+                step[side] *= 0.5
+                continue
+            ends[side] = q
+            pts.insert(0 if side == 0 else len(pts), q)
+            step[side] *= 1.5
         for u, v in zip(pts, pts[1:]):
             if u.slope * v.slope < 0:
                 fold = locate_fold(system, u, v)
                 return LobedFold(float(fold.p), float(fold.monitor), math.nan, -1, fold.U)
-        step *= 1.5
-    raise ConvergenceError(f"the lobed fold near amplitude {amplitude:.6g} was not bracketed "
-                           f"on the finer discretisation (amplitudes {pts[0].monitor:.6g} to "
-                           f"{pts[-1].monitor:.6g})")
+    raise ConvergenceError(f"the lobed fold near amplitude {amplitude:.6g} was not found on "
+                           f"the finer discretisation (dp/da of one sign from amplitude "
+                           f"{pts[0].monitor:.6g} to {pts[-1].monitor:.6g})")
 
 
 def imperfect_limit(f: Fourier2D, critical, kc: Koiter, amplitude: float, *,
@@ -536,4 +557,5 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
                        koiter=kc, p_c=float(p_c), p_c_error=p_c_error,
                        p=np.array([q.p for q in pts]),
                        amplitude=np.array([q.monitor for q in pts]), harmonics=harm,
-                       folds=tuple(folds), stop=stop, discretisation=f, states=ys)
+                       folds=tuple(folds), stop=stop, discretisation=f, states=ys,
+                       critical=crit)

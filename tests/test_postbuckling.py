@@ -124,6 +124,8 @@ def test_follow_bifurcation_switches_onto_the_lobed_branch():
     assert br.harmonics[0, 2] < 10 * a**2 and br.harmonics[0, 0] < 100 * a**2
     cols = br.columns()
     assert set(cols) == {"kappa", "amplitude", "harmonic_0", "harmonic_3", "harmonic_6"}
+    with pytest.raises(ValueError, match="xi must be"):
+        br.imperfect_limit(-0.1)
 
 
 @pytest.mark.parametrize("bad, message", [
@@ -180,3 +182,18 @@ def test_imperfect_arguments_are_refused():
         f.imperfect(crit[2], math.nan)
     with pytest.raises(ValueError, match="amplitude must be"):
         pb.imperfect_limit(f, crit, k, 0.0)
+
+
+@pytest.mark.slow
+def test_a_far_lobed_fold_carries_its_cutoff_error():
+    """Relaxed CG, lam = 1, T = 6: the lobed fold lies far from the bifurcation (amplitude
+    ~0.012), where K = 2 harmonics do not suffice. Its error estimate (the fold relocated
+    on K + 1 harmonics and degree + 8, marching from the transferred state) against the
+    fold of a branch continued separately with K = 3 from the bifurcation; K = 4 moves it
+    less than K = 3 did (convergence in the cutoff)."""
+    ins = ce.first_instability(0.6, H0, 1.0, material="cg")
+    folds = {K: shellbvp.follow_bifurcation(ins, K=K, estimate_error=K == 2).folds[0]
+             for K in (2, 3, 4)}
+    assert folds[2].error_estimate == pytest.approx(abs(folds[3].p - folds[2].p), rel=1e-3)
+    assert abs(folds[4].p - folds[3].p) < 0.3 * abs(folds[3].p - folds[2].p)
+
