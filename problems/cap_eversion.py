@@ -163,15 +163,31 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
 
 
 def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
-                      tol: float = 1e-6, degree: int | None = None) -> shellbvp.Instability:
+                      tol: float = 1e-6, degree: int | None = None, kappa_max=None,
+                      w_max=None) -> shellbvp.Instability:
     """The cap's first instability along the branch from kappa = 0 (p = kappa R0): the
     axisymmetric snap (kind ``"fold"``, kappa_s) or a bifurcation into n circumferential
     waves before it (:func:`shellbvp.first_instability`). The cap is free: its rigid
     motions are zero modes of n = 0 and 1, excluded (:mod:`shellbvp.harmonics`). ``tol``:
-    relative tolerance of the located kappa; ``degree``: of the perturbations."""
+    relative tolerance of the located kappa; ``degree``: of the perturbations. A cap that
+    does not snap is scanned to ``kappa_max`` (default: no bound) or until its apex
+    displacement exceeds ``w_max`` (default 1.2 times full eversion, :func:`branch`),
+    whichever comes first (kind ``"none"`` with that stop where nothing is found)."""
+    if kappa_max is not None and not (isinstance(kappa_max, (int, float))
+                                      and kappa_max > 0):
+        raise ValueError(f"kappa_max must be a positive curvature (1/R0), got {kappa_max!r}")
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               tol=min(tol, TOL), energies=False)
-    return shellbvp.first_instability(b, tol=tol, degree=degree)
+               tol=min(tol, TOL), energies=False, kappa_max=kappa_max, w_max=w_max)
+    found = shellbvp.first_instability(b, tol=tol, degree=degree)
+    if found.kind == "none" and not found.stop:      # the continuation reached a bound
+        if kappa_max is not None and b.p[-1] >= kappa_max:
+            bound = f"kappa R0 passed kappa_max = {kappa_max:g}"
+        elif w_max is None:
+            bound = "w passed 1.2 times full eversion (the default w_max)"
+        else:
+            bound = f"w passed w_max = {w_max:g} R0"
+        found = replace(found, stop=bound)
+    return found
 
 
 #: the columns of a kappa_s sweep's CSV, with their units (the first six as before; status
