@@ -192,6 +192,9 @@ def parser():
                     help="a scene file (TOML) or an installed example's name; without it, "
                          "the cap of the options below")
     _common(st, method=False)
+    st.add_argument("--kappa-max", type=_positive, default=None,
+                    help="a cap: scan the branch up to this kappa R0, > 0 (default: until its "
+                         "apex passes 1.2 times full eversion)")
     st.add_argument("--json", action="store_true", help="print one JSON object")
     pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
                                              "scene file's branch: Koiter's coefficients, the "
@@ -448,6 +451,9 @@ def main(argv=None) -> int:
             setattr(a, dest + "_name", spelled[-1] if spelled else
                     names[1 if a.file is None else 0])
     if getattr(a, "file", None) is not None:
+        if getattr(a, "kappa_max", None) is not None and a.command == "stability":
+            p.exit(2, "shellbvp: error: --kappa-max applies to a cap; a scene file's branch "
+                      "runs over its own range (from, to)\n")
         sf = _scene_file(p, a, argv)
         try:
             {"follow": _follow_file, "stability": _stability_file,
@@ -483,7 +489,8 @@ def main(argv=None) -> int:
             else:
                 print("no snap: the cap everts without a fold (kappa_s undefined)")
         elif a.command == "stability":
-            r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, **opts)
+            r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, kappa_max=a.kappa_max,
+                                     **opts)
             if a.json:
                 from .scenefile import SceneInstability
 
@@ -495,7 +502,7 @@ def main(argv=None) -> int:
                   f"T = Theta sqrt(R0/h0) = {a.theta / math.sqrt(a.h):.4g}")
             what = {"fold": "the axisymmetric snap (fold)",
                     "bifurcation": f"a bifurcation into n = {r.n} circumferential waves",
-                    "none": "none up to full eversion"}[r.kind]
+                    "none": f"none up to kappa R0 = {r.p:.6g} ({r.stop})"}[r.kind]
             print(f"first instability: {what}" + (
                 f" at kappa R0 = {r.p:.8f} +- {r.error_estimate:.1e}, w / R0 = {r.w:.6f}"
                 if r.kind != "none" else ""))

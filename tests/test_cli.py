@@ -144,3 +144,23 @@ def test_stability_command_prints_the_first_instability(capsys):
 
     assert int(m.group(1)) >= 1
     assert float(m.group(2)) < ce.snap_curvature(math.pi / 6, 0.01).kappa_s
+
+
+@pytest.mark.slow
+def test_stability_of_a_cap_that_does_not_snap_stops_at_kappa_max(capsys):
+    """T = 1.5 (below the onset of snapping): nothing up to --kappa-max 2, and the line
+    says the bound ended the scan (the Python route: tests/test_harmonics.py)."""
+    assert cli.main(["stability", "--theta", "0.15", "--h", "0.01", "--kappa-max", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "first instability: none up to kappa R0 = 2." in out
+    assert "kappa R0 passed kappa_max = 2" in out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["stability", "--kappa-max", "-1"], "expected a number > 0"),
+    (["stability", "everting-cap", "--kappa-max", "2"], "--kappa-max applies to a cap")])
+def test_stability_kappa_max_is_checked(argv, message, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(argv)
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
