@@ -86,9 +86,11 @@ K, DEGREE_STEP = 2, 8
 CONVERGENCE_AT = (6.0, 10.0, 16.0)
 #: imperfection amplitudes, in thicknesses (largest normal deviation in the mode's shape)
 XI_BARS = (0.1, 0.5)
-#: the amplitudes whose imperfect caps are also computed directly: at 0.5 thicknesses the
-#: direct continuation's first folds were erratic (0.60 .. 1.45 p_c from cap to cap, two
-#: not found), unexplained, so none is reported there
+#: the amplitudes whose imperfect caps are also computed directly. At 0.5 thicknesses the
+#: imperfect caps' paths within the class 0, n, 2n run past p_c (to 1.07 p_c at lambda_B =
+#: 7, a fold ``imperfect_limit`` now refuses): past the neighbouring harmonics' bifurcations
+#: of the perfect cap (0.02-7 % above p_c, outside the class), so no in-class fold is the
+#: cap's limit there
 XI_DIRECT = (0.1,)
 
 

@@ -414,11 +414,16 @@ def imperfect_limit(f: Fourier2D, critical, kc: Koiter, amplitude: float, *,
     shell's state there from the perfect one's) continued along the loading to their first
     fold,
     located by Brent's method on dp/da. The check of :meth:`Koiter.limit` that does not go
-    through the expansion.
+    through the expansion. The fold is one within f's symmetry class (harmonics 0, n, ...,
+    K n): a bifurcation of the imperfect shell into another class is not looked for, which
+    is the shell's limit only while the imperfect path stays below the perfect shell's
+    other bifurcations (small amplitudes, near p_c). A path that passes p_c without a fold
+    is refused: the single-mode picture no longer holds at that amplitude.
 
     Raises:
         ValueError: a supercritical bifurcation (no limit point near it), bad amplitude.
-        ConvergenceError: no fold before the continuation stopped.
+        ConvergenceError: no fold before the continuation stopped, or the imperfect path
+            passed p_c before its fold.
     """
     if kc.kind != "subcritical":
         raise ValueError("imperfect_limit needs a subcritical bifurcation: a supercritical "
@@ -440,6 +445,12 @@ def imperfect_limit(f: Fourier2D, critical, kc: Koiter, amplitude: float, *,
                                f"before the continuation stopped at {pts[-1].p:.8g}")
     i, j = brackets[0]
     fold = locate_fold(system, pts[i], pts[j])
+    if (fold.p - p_c) * kc.direction > 0:
+        raise ConvergenceError(f"imperfect shell (amplitude {amplitude:.3g}): its path passes "
+                               f"the bifurcation {p_c:.8g} and folds only at {fold.p:.8g}, "
+                               f"within harmonics 0, {f.n}, ..., {f.K * f.n}: at this amplitude "
+                               f"the single-mode picture does not hold (other classes are "
+                               f"not checked)")
     return LobedFold(float(fold.p), float(fold.monitor), math.nan, i, fold.U)
 
 

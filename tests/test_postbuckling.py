@@ -197,3 +197,20 @@ def test_a_far_lobed_fold_carries_its_cutoff_error():
     assert folds[2].error_estimate == pytest.approx(abs(folds[3].p - folds[2].p), rel=1e-3)
     assert abs(folds[4].p - folds[3].p) < 0.3 * abs(folds[3].p - folds[2].p)
 
+
+
+@pytest.mark.slow
+def test_an_imperfect_path_past_the_bifurcation_is_refused():
+    """The clamped pressure cap of lambda_B = 7 (n = 3) with an imperfection of half a
+    thickness: its path within harmonics 0, 3, 6 rises past p_c (and past the perfect cap's
+    n = 2 and 4 bifurcations, outside the class) to a fold at ~1.07 p_c. That fold is not the
+    cap's limit load, and imperfect_limit says so instead of returning it."""
+    from shellbvp.problems import pressure_cap as pc
+
+    ins = pc.first_instability(7.0, 100.0, 0.3)
+    eq = ins.equilibrium
+    f = pb.Fourier2D(eq, ins.n, 2)
+    crit = pb.critical_point(f, eq.p)
+    k, *_ = pb.koiter(f, crit, direction=1.0)
+    with pytest.raises(shellbvp.ConvergenceError, match="passes the bifurcation"):
+        pb.imperfect_limit(f, crit, k, 0.5 * k.h / k.w_max)
