@@ -157,6 +157,7 @@ def test_imperfection_force_gamma_against_differences():
     assert np.max(np.abs(perfect.gradient(y_c, p_c) - f.gradient(y_c, p_c))) < 1e-12
 
 
+@pytest.mark.slow
 def test_koiter_limit_load_against_directly_computed_imperfect_shells():
     """Koiter's leading-order limit load p_c + 3 p2 a_s^2 against the fold of the imperfect
     shell's own equilibria (imperfect_limit: continuation from below p_c to the fold, not the
