@@ -267,18 +267,25 @@ class Fourier2D:
         """The p-derivatives of what the energy takes from the parameter: the fields at the
         Gauss points (a JAX jvp of the scene's fields, as the compiled programs trace them),
         the pressure and the dead end loads."""
-        from .jaxsetup import jax
-        import jax.numpy as jnp
         from .scene import load_rate
 
         sc = self.eq.scene
-        dF = np.asarray(jax.jvp(lambda q: self.fields(q, jnp), (float(p),), (1.0,))[1])
+        dF = np.asarray(self._field_rate(float(p)))
         dP = 0.0 if sc.pressure is None else load_rate(sc.pressure, p, 1)
         dloads = np.zeros((2, 2))
         for e, end in enumerate(sc.ends):
             if self._loaded[e]:
                 dloads[e] = end.conjugate(p, self._end_r0(e), 1)[:2]
         return dF, dP, dloads
+
+    @cached_property
+    def _field_rate(self):
+        """p -> dF/dp at the Gauss points: the jvp of :meth:`fields`, compiled once per
+        discretisation (called at every continuation step)."""
+        from .jaxsetup import jax
+        import jax.numpy as jnp
+
+        return jax.jit(lambda p: jax.jvp(lambda q: self.fields(q, jnp), (p,), (1.0,))[1])
 
     def _r0_at(self, i, s):
         from .fields import point_fields
