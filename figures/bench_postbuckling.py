@@ -4,8 +4,9 @@
 * setup: ``Fourier2D(eq, 3, 2)`` + ``critical_point`` + ``koiter`` (the bifurcation in the
   2D discretisation and Koiter's coefficients);
 * branch: ``follow_bifurcation(ins, n_folds=0, estimate_error=False)``, the lobed branch from
-  the bifurcation to where the continuation ends (it stalls at the branch's first fold,
-  kappa = -2.034; its own setup included).
+  the bifurcation to where the continuation ends (it stalls at kappa = -2.034, a nearly
+  axisymmetric fold the amplitude monitor cannot see: docs/postbuckling.md; its own setup
+  included).
 
 The first call of each (tracing and compiling the JAX programs; JAX's disk cache off) is
 timed in a fresh process of its own; the steady state is the median (and min, max) of

@@ -77,6 +77,7 @@ from tqdm import tqdm
 from _common import finish, parser, pyplot, write_csv
 import shellbvp
 from shellbvp import postbuckling as pb
+from shellbvp.continuation import point_at_monitor
 from shellbvp.problems import pressure_cap as pc
 
 NU, R_OVER_T = 0.3, 100.0
@@ -130,7 +131,8 @@ def lobed_fit(eq, n: int, p_guess: float, direction: float) -> float:
     dp = []
     for a in amps:
         d = kc.p2 * a**2
-        pt = pb._point_at(system, y_c + d * dy0 + a * phi + a**2 * psi, p_c + d, a, 1e-11)
+        pt = point_at_monitor(system, y_c + d * dy0 + a * phi + a**2 * psi, p_c + d, a,
+                              tol=1e-11)
         dp.append(pt.p - p_c)
     p2 = np.polyfit(amps**2, np.array(dp), 2)[1]
     return float(p2 * kc.h**2 / (kc.w_max**2 * p_c))

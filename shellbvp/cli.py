@@ -127,27 +127,23 @@ def _int_in(lo, hi=None):
     return parse
 
 
-def _bound(text):
-    """An argparse type: a number, -inf or inf (no bound), not nan."""
-    try:
-        v = float(text)
-    except ValueError:
-        v = math.nan
-    if math.isnan(v):
-        raise argparse.ArgumentTypeError(f"expected a number (or -inf, inf: no bound), got "
-                                         f"{text!r}")
-    return v
+def _number(accept, expected: str):
+    """An argparse type: a float (inf allowed, never nan) for which ``accept`` holds."""
+    def parse(text):
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if math.isnan(v) or not accept(v):
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
+        return v
+    return parse
 
 
-def _positive(text):
-    """An argparse type: a positive number (inf allowed: no bound)."""
-    try:
-        v = float(text)
-    except ValueError:
-        v = math.nan
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
-    return v
+#: a number, -inf or inf (no bound), not nan
+_bound = _number(lambda v: True, "a number (or -inf, inf: no bound)")
+#: a positive number (inf allowed: no bound)
+_positive = _number(lambda v: v > 0, "a number > 0")
 
 
 def _material(a) -> str:

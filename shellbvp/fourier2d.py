@@ -338,34 +338,32 @@ class Fourier2D:
         return np.stack([np.stack([r, zero, z]), np.stack([c, zero, -sn]),
                          np.stack([-dth * sn, zero, -dth * c])]).reshape(3, 3, P * m)
 
-    def reference_change(self, shape, amplitude, xp=np):
+    def reference_change(self, shape, amplitude):
         """(P m, J, 6): the change of the reference surface's forms (a11, a12, a22, b11,
-        b12, b22) at every point when it is displaced by amplitude times shape (exact;
-        ``xp=jax.numpy`` to trace the amplitude)."""
+        b12, b22) at every point when it is displaced by amplitude times shape (exact; a
+        JAX array, traceable in the amplitude)."""
         from .jaxsetup import jax
 
         C, S, ks = self._trig
         data = dict(G=tuple(self.G), x0=self._reference_x0, C=C, S=S, ks=ks)
         forms = jax.vmap(jax.vmap(_H._forms))
         q0 = _synthesis(0.0 * np.asarray(shape), data)
-        out = forms(_synthesis(amplitude * np.asarray(shape), data)) - forms(q0)
-        return out if xp is not np else np.asarray(out)
+        return forms(_synthesis(amplitude * np.asarray(shape), data)) - forms(q0)
 
     @cached_property
     def _change(self):
         if self.imperfection is None:
             return None
-        return self.reference_change(*self.imperfection)
+        return np.asarray(self.reference_change(*self.imperfection))
 
     def imperfection_gradient(self, y, shape, p=None) -> np.ndarray:
         """d(dE/dy)/de at y: the gradient's rate in the amplitude e of an imperfection of
         the given shape (:meth:`imperfect`), at e = 0 (a jvp, exact)."""
         from .jaxsetup import jax
-        import jax.numpy as jnp
 
         if self.imperfection is not None:
             raise ValueError("imperfection_gradient is taken about the perfect shell")
-        dchange = jax.jvp(lambda e: self.reference_change(shape, e, jnp), (0.0,), (1.0,))[1]
+        dchange = jax.jvp(lambda e: self.reference_change(shape, e), (0.0,), (1.0,))[1]
         return np.asarray(self._programs["grad_e"](np.asarray(y, dtype=float), *self._args(p),
                                                    dchange))
 
@@ -641,8 +639,6 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
     from . import kinematics as Kin
     from .forms import reduced_energy
 
-    dot, cross = _H._dot, _H._cross
-
     def density(q, F, P, mat, h, change=None):
         """The energy per ds domega at a point: W t sqrt(det abar) + (P / 3) x . (x_s x x_o)
         (``change``: the target forms' change there, an imperfect reference)."""
@@ -654,7 +650,7 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
         rb = Kin.RHOB.start
         W = reduced_energy(a, b, abar, bbar, h=h * F[Kin.THICKNESS], model=model,
                            material=material, rhob=(F[rb], F[rb + 1], F[rb + 2]), **kw)
-        return W * area + P * dot(q[0:3], cross(q[3:6], q[6:9])) / 3.0
+        return W * area + P * _H._triple(q[0:3], q[3:6], q[6:9]) / 3.0
 
     dens = jax.vmap(jax.vmap(density, in_axes=(0, None, None, None, None)),
                     in_axes=(0, 0, None, None, None))

@@ -202,8 +202,6 @@ def _hessian_kernel(model: str, material: str, imperfect: bool = False):
     from . import kinematics as K
     from .forms import reduced_energy
 
-    forms = _forms
-
     def energy(ab, F, change, mat, h):
         a = jnp.array([[ab[0], ab[1]], [ab[1], ab[2]]])
         b = jnp.array([[ab[3], ab[4]], [ab[4], ab[5]]])
@@ -218,11 +216,11 @@ def _hessian_kernel(model: str, material: str, imperfect: bool = False):
         return _triple(q[0:3], q[3:6], q[6:9]) / 3.0
 
     def hessian(q, F, change, mat, h, P):
-        ab = forms(q)
+        ab = _forms(q)
         gW = jax.grad(energy)(ab, F, change, mat, h)
         HW = jax.jacfwd(jax.grad(energy))(ab, F, change, mat, h)
-        J = jax.jacfwd(forms)(q)
-        Hg = jax.hessian(lambda x: jnp.dot(gW, forms(x)))(q)
+        J = jax.jacfwd(_forms)(q)
+        Hg = jax.hessian(lambda x: jnp.dot(gW, _forms(x)))(q)
         grad = J.T @ gW + P * jax.grad(load)(q)
         return grad, J.T @ HW @ J + Hg + P * jax.hessian(load)(q)
 

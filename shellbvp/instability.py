@@ -301,30 +301,22 @@ def _parameter_solver(branch, eq_a, eq_b):
 def _monitor_solver(branch, i, fold, eq_a):
     """The branch's equilibrium at a prescribed monitor value between point i - 1 (its
     equilibrium eq_a) and the fold after it: bordered Newton with m fixed (well-posed
-    through the fold) on the branch's discretisation, from the nearest solve along its exact
-    tangent (the fold itself is its own equilibrium, located on a discretisation of its
-    own)."""
-    from .continuation import ContinuationOptions, newton, tangent
+    through the fold) on the branch's discretisation, predicted along the exact tangent of
+    the nearest point solved (the fold itself is its own equilibrium, located on a
+    discretisation of its own)."""
+    from .continuation import ContinuationOptions, point_at_monitor
     from .results import equilibrium_from
 
-    a = branch.points[i - 1]
-    # (m, U, p, dU/dm, dp/dm) of every solve: the predictors
-    known = [(a.monitor, a.U, a.p, a.dU / a.tangent[0], a.slope)]
-    solved = {a.monitor: eq_a, fold.monitor: fold.equilibrium}
+    known = [branch.points[i - 1]]                  # the points solved: the predictors
+    solved = {known[0].monitor: eq_a, fold.monitor: fold.equilibrium}
     tol = ContinuationOptions().newton_tol
 
     def at(m):
         if m not in solved:
-            m0, U0, p0, dU0, g0 = min(known, key=lambda k: abs(k[0] - m))
-            res = newton(branch.system, U0 + (m - m0) * dU0, p0 + (m - m0) * g0, 1.0, 0.0, m,
-                         tol=tol, maxiter=25, fail_fast=False)
-            if not res.ok:
-                raise ConvergenceError(f"no equilibrium at monitor {m:.10g} between the "
-                                       f"branch point and its fold: {res.history}")
-            v, _, dp = tangent(res)
-            dm = float(res.gm @ v)
-            known.append((m, res.U, res.p, v / dm, dp / dm))
-            solved[m] = equilibrium_from(branch.system, res.U, res.p, stats=branch.stats)
+            near = min(known, key=lambda q: abs(q.monitor - m))
+            q = point_at_monitor(branch.system, *near.predicted(m), m, tol=tol)
+            known.append(q)
+            solved[m] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
         return solved[m]
     return at
 

@@ -48,8 +48,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .continuation import (ContinuationOptions, Point, locate_fold, newton, pseudo_arclength,
-                           tangent)
+from .continuation import (ContinuationOptions, locate_fold, newton, point_at_monitor,
+                           pseudo_arclength)
 from .errors import ConvergenceError
 from .fourier2d import Fourier2D
 from .results import Equilibrium
@@ -340,18 +340,6 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
 
 
 # --- following the lobed branch --------------------------------------------------------------
-def _point_at(system, y, p, monitor, tol) -> Point:
-    """The branch point with the monitor prescribed, from (y, p), as a continuation
-    :class:`Point` (exact tangent)."""
-
-    res = newton(system, y, p, 1.0, 0.0, monitor, tol=tol, maxiter=25, fail_fast=False)
-    if not res.ok:
-        raise ConvergenceError(f"lobed branch: no solution at amplitude {monitor:.6g}: "
-                               f"{res.history}")
-    v, _, dp = tangent(res)
-    return Point.from_newton(res, v, dp)
-
-
 def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
     """f's state y as g's unknowns (g finer: Chebyshev coefficients padded, harmonics
     added as zero)."""
@@ -378,9 +366,8 @@ def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
     a doubling of it. Raises ConvergenceError where that fails."""
     system = LobedSystem(f, critical[2])
     sign = math.copysign(1.0, amplitude)
-    ends = [_point_at(system, y, p, amplitude, tol)]           # [low, high] once both moved
-    ends.append(ends[0])
-    pts = [ends[0]]
+    mid = point_at_monitor(system, y, p, amplitude, tol=tol)
+    ends, pts = [mid, mid], [mid]                             # ends: the lowest, the highest
     step = [0.02 * abs(amplitude)] * 2
     for _ in range(40):
         for side, direction in ((0, -1.0), (1, 1.0)):
@@ -389,7 +376,7 @@ def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
             if not 0.5 <= a / amplitude <= 2.0 or step[side] < 1e-6 * abs(amplitude):
                 continue
             try:
-                q = _point_at(system, *last.predicted(a), a, tol)
+                q = point_at_monitor(system, *last.predicted(a), a, tol=tol)
             except ConvergenceError:
                 step[side] *= 0.5
                 continue

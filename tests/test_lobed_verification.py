@@ -25,16 +25,28 @@ square) do.
 
 import itertools
 import math
+from functools import lru_cache
 
 import numpy as np
 import pytest
 
-from shellbvp.continuation import Point, locate_fold, newton, tangent
+from shellbvp.continuation import locate_fold, newton, point_at_monitor
 from shellbvp.fourier2d import Fourier2D
+from shellbvp.problems import cap_eversion as ce
 from test_fourier2d import cap_at, f2d, smooth_state      # the same states, computed once
 
-#: the default cap's axisymmetric snap (Theta = pi/6, h = 0.01, lam = 1)
-KAPPA_S = 4.221429131365562
+
+@lru_cache(maxsize=None)
+def kappa_s() -> float:
+    """The default cap's axisymmetric snap (Theta = pi/6, h = 0.01, lam = 1) by the
+    spectral Euler-Lagrange method on its refinement ladder (cap_eversion.snap_curvature),
+    refined to 1e-12: the comparisons below go down to ~1e-12, below the default tolerance's
+    ~1e-10 (its error estimate, 5.8e-13, is checked)."""
+    r = ce.snap_curvature(math.pi / 6, 0.01, 1.0, tol=1e-12)
+    assert r.error_estimate < 1e-12, r.error_estimate
+    return r.kappa_s
+
+
 #: the degrees of the fast test (all share the Gauss points, max(2 d, 64) + 8 = 72, hence
 #: the compiled Hessian kernel of tests/test_fourier2d.py)
 FAST_DEGREES = (20, 24, 28)
@@ -58,14 +70,6 @@ class _System:
         return float(self.phi @ y), self.phi
 
 
-def _point(system, y, p, m, tol=1e-11) -> Point:
-    """The branch point with the monitor prescribed at m, from (y, p)."""
-    res = newton(system, y, p, 1.0, 0.0, m, tol=tol, maxiter=30, fail_fast=False)
-    assert res.ok, res.history
-    v, _, dp = tangent(res)
-    return Point.from_newton(res, v, dp)
-
-
 def _harmonic_zero_fold(degree, step=5e-4):
     """The fold of the axisymmetric branch of Fourier2D(cap at 4.17, n = 3, K = 0, degree):
     the monitor (the amplitude of the softest axisymmetric mode at the base) stepped by
@@ -77,10 +81,10 @@ def _harmonic_zero_fold(degree, step=5e-4):
     branch turns at the fold within ~1e-5 of arclength, below the default ds_min.)"""
     f = Fourier2D(cap_at(4.17), 3, 0, degree=degree).with_points(18)
     system = _System(f, f.mode(0))
-    a = _point(system, np.zeros(f.size), f.eq.p, 0.0)
+    a = point_at_monitor(system, np.zeros(f.size), f.eq.p, 0.0, tol=1e-11, maxiter=30)
     sign = math.copysign(1.0, a.slope)
     for j in range(1, 40):
-        b = _point(system, a.U, a.p, sign * j * step)
+        b = point_at_monitor(system, a.U, a.p, sign * j * step, tol=1e-11, maxiter=30)
         if b.slope * sign < 0:
             return locate_fold(system, a, b)
         a = b
@@ -95,7 +99,7 @@ def test_harmonic_zero_reproduces_the_axisymmetric_snap():
     spectral convergence (~200x per 4 degrees) down to the reference's round-off (on a base
     at kappa = 4.2 instead the floor is -1.2e-13: the base state's own error); the default
     degree 24 is 1.9e-10 off, 1e-10 is met from 28 on."""
-    err = {d: _harmonic_zero_fold(d).p - KAPPA_S for d in FAST_DEGREES}
+    err = {d: _harmonic_zero_fold(d).p - kappa_s() for d in FAST_DEGREES}
     e20, e24, e28 = (abs(err[d]) for d in FAST_DEGREES)
     assert e20 > 50 * e24 and e24 > 50 * e28, err          # measured 290 and 175
     assert e28 < 1e-10, err                                  # measured 1.1e-12
@@ -106,7 +110,7 @@ def test_harmonic_zero_fold_converges_to_the_floor():
     """The same at degree 16 .. 40 (40: more Gauss points, 88, a new kernel to compile): the
     change falls spectrally to the floor and stays there (measured 1.1e-12, -5e-15, -6e-15
     at 28, 32, 40; ~1e-13 on other bases: the base state's own error)."""
-    err = {d: _harmonic_zero_fold(d).p - KAPPA_S for d in (16, 20, 24, 28, 32, 40)}
+    err = {d: _harmonic_zero_fold(d).p - kappa_s() for d in (16, 20, 24, 28, 32, 40)}
     e = [abs(err[d]) for d in (16, 20, 24, 28)]
     assert all(a > 50 * b for a, b in itertools.pairwise(e)), err
     assert all(abs(err[d]) < 1e-11 for d in (28, 32, 40)), err      # measured <= 1.1e-12

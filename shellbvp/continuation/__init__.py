@@ -9,12 +9,13 @@
 * :mod:`.options`: :class:`ContinuationOptions`, the one source of defaults.
 """
 
-from .arclength import Point, pseudo_arclength
+from .arclength import Point, point_at_monitor, pseudo_arclength
 from .fold_curve import fold_at_monitor, fold_ladder, fold_system_terms, solve_fold
 from .folds import fold_sensitivity, ladder, locate_fold, polish_fold, refine_fold
 from .newton import NewtonResult, newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["ContinuationOptions", "Point", "pseudo_arclength", "locate_fold", "polish_fold",
-           "refine_fold", "ladder", "fold_sensitivity", "solve_fold", "fold_ladder",
-           "fold_at_monitor", "fold_system_terms", "NewtonResult", "newton", "tangent"]
+__all__ = ["ContinuationOptions", "Point", "point_at_monitor", "pseudo_arclength",
+           "locate_fold", "polish_fold", "refine_fold", "ladder", "fold_sensitivity",
+           "solve_fold", "fold_ladder", "fold_at_monitor", "fold_system_terms",
+           "NewtonResult", "newton", "tangent"]

@@ -21,7 +21,7 @@ from ..errors import ConvergenceError
 from .newton import NewtonResult, newton, tangent
 from .options import ContinuationOptions
 
-__all__ = ["Point", "pseudo_arclength"]
+__all__ = ["Point", "point_at_monitor", "pseudo_arclength"]
 
 #: iterations allowed to the first (natural-parameter) solve, which may start far away
 START_MAXITER = 40
@@ -66,6 +66,19 @@ class Point:
         nrm = math.sqrt(float(v @ v) / n + dp * dp)
         v, dp = sign * v / nrm, sign * dp / nrm
         return cls(res.p, res.m, arclength, res.U, (float(res.gm @ v), dp), v, res.iterations)
+
+
+def point_at_monitor(system, U, p, monitor: float, *, tol: float,
+                     maxiter: int = 25) -> Point:
+    """The branch point with the monitor prescribed: bordered Newton from (U, p) (e.g.
+    :meth:`Point.predicted` of a nearby point), as a :class:`Point` with its exact tangent.
+    Raises ConvergenceError where Newton does not converge."""
+    res = newton(system, U, p, 1.0, 0.0, monitor, tol=tol, maxiter=maxiter, fail_fast=False)
+    if not res.ok:
+        raise ConvergenceError(f"no branch point with the monitor at {monitor:.10g}: "
+                               f"{res.history}")
+    v, _, dp = tangent(res)
+    return Point.from_newton(res, v, dp)
 
 
 def _fold_ahead(a: Point, b: Point, reach: float):
