@@ -62,10 +62,23 @@ rule: the density's exact Hessian in the 18 local numbers at every point
 Chebyshev coefficients to those numbers, per harmonic pair (k, l): dense (K + 1)^2 blocks,
 block-diagonal at an axisymmetric state.
 
-Not yet: scenes of more than one piece (the rigid joint's rotation condition across an
-interface is nonlinear in dx, the harmonics impose it linearised with a Lagrangian term),
-end moments (a nonlinear potential), a pole's prescribed displacement at another parameter
-value than the base's (a nonhomogeneous constraint).
+Joints. Across an interface between pieces (a joint of the geometry or a break of the
+stimulus) U is continuous (linear rows, in the basis) and the joint is rigid: the signed
+angle between the tangents on either side about the hoop direction keeps the reference
+shell's (:func:`_joint_condition`). That condition is not linear in dx where the stretch
+jumps or the tangent turns, so it is imposed with multipliers: its projections on cos(k
+omega) of the class's harmonics, one per harmonic and joint, appended to the unknowns
+(``U = (y, lambda)``, :attr:`Fourier2D.size` counts both; ``ny`` the displacement's). E is
+replaced by the Lagrangian E - lambda . c(y): its stationary points are the constrained
+equilibria; its gradient, Hessian (symmetric, indefinite: [[H_L, -J^T], [-J, 0]]) and
+higher derivatives are those of the same JAX function, and the stability of a state is
+that of H_L on the null space of J (:meth:`Fourier2D.block_modes` at axisymmetric states,
+equal to :func:`shellbvp.harmonics.modes`, which imposes the linearised condition with the
+Lagrangian's interface term). The base state is ``origin``: zero displacement and the
+multipliers that make it stationary.
+
+Not yet: end moments (a nonlinear potential), a pole's prescribed displacement at another
+parameter value than the base's (a nonhomogeneous constraint).
 """
 
 from __future__ import annotations
@@ -133,10 +146,6 @@ class Fourier2D:
         if not (isinstance(K, (int, np.integer)) and K >= 0):
             raise ValueError(f"K must be a non-negative integer, got {K!r}")
         sc = eq.scene
-        if sc.pieces != 1:
-            raise NotImplementedError(
-                "fourier2d handles one-piece scenes only: across an interface the rigid "
-                "joint's rotation condition is nonlinear in the displacement")
         if sc.pressure is not None and any(e.kind == "free" for e in sc.ends):
             raise ValueError("a follower pressure on a shell with a free end has no potential "
                              "beyond axisymmetry (as in shellbvp.harmonics)")
@@ -161,7 +170,9 @@ class Fourier2D:
         self.Z, self.rigid = zip(*(_admissible(base, D, k) for k in self.ks))
         self.sizes = tuple(Z.shape[1] for Z in self.Z)
         self.offsets = tuple(int(x) for x in np.concatenate([[0], np.cumsum(self.sizes)]))
-        self.size = self.offsets[-1]
+        self.ny = self.offsets[-1]
+        self.joints = base.s.shape[0] - 1
+        self.size = self.ny + self.joints * (self.K + 1)
         # (9, P m, size_k): (U, U', U'') at the Gauss points from each harmonic's unknowns
         self.G = tuple(np.einsum("apj,jr->apr", D, Z) for Z in self.Z)
         self.imperfection = None
@@ -189,7 +200,7 @@ class Fourier2D:
         import copy
 
         out = copy.copy(self)
-        for name in ("_trig", "_data", "_change"):
+        for name in ("_trig", "_data", "_change", "origin"):
             out.__dict__.pop(name, None)
         out._grid(int(points), full_period)
         return out
@@ -229,6 +240,29 @@ class Fourier2D:
                 if end.kind in ("roller", "symmetry"):
                     self._lids.append((e, sigma, b.ends[(i, side)][3]))
         self._loaded = [e.loaded and e.displacement is None for e in sc.ends]
+        self._joints = tuple(self._joint(i) for i in range(P - 1))
+
+    def _joint(self, i: int) -> dict:
+        """The data of the joint between pieces i and i + 1 (:func:`_joint_condition`): the
+        rows R (9 (K + 1), ny) giving per harmonic (U, U' on the left, U' on the right) there,
+        the base's position and tangents on either side, and the reference shell's angle
+        between its tangents (zero where it does not turn: a break of the stimulus)."""
+        from scipy.linalg import block_diag
+
+        from .fields import reference_point
+
+        b, sc = self.base, self.eq.scene
+        R = lambda j, side, order, c: _H._end_rows(b, j, side, order, c)  # noqa: E731
+        rows = np.array([R(i, "b", 0, c) for c in range(3)] + [R(i, "b", 1, c) for c in range(3)]
+                        + [R(i + 1, "a", 1, c) for c in range(3)])
+        th_l, lam_l, r, z = b.ends[(i, "b")]
+        th_r, lam_r = b.ends[(i + 1, "a")][:2]
+        s = np.array([b.pieces[i][1]])
+        ref = [float(np.ravel(reference_point(sc, j, s, np).theta)[0]) for j in (i, i + 1)]
+        return dict(R=block_diag(*(rows @ Z for Z in self.Z)), x0=np.array([r, 0.0, z]),
+                    tl=lam_l * np.array([np.cos(th_l), 0.0, -np.sin(th_l)]),
+                    tr=lam_r * np.array([np.cos(th_r), 0.0, -np.sin(th_r)]),
+                    angle=ref[0] - ref[1])
 
     def fields(self, p=None, xp=np):
         """(P m, fields) at the Gauss points and parameter p (default the base's); ``xp``
@@ -314,7 +348,7 @@ class Fourier2D:
         if not (isinstance(amplitude, (int, float)) and math.isfinite(amplitude)):
             raise ValueError(f"amplitude must be a finite number, got {amplitude!r}")
         out = copy.copy(self)
-        for name in ("_data", "_change"):
+        for name in ("_data", "_change", "origin"):
             out.__dict__.pop(name, None)
         out.imperfection = (shape, float(amplitude))
         return out
@@ -377,19 +411,51 @@ class Fourier2D:
         j = self.ks.index(k)
         return slice(self.offsets[j], self.offsets[j + 1])
 
+    def multipliers(self, k: int) -> np.ndarray:
+        """The indices of the multipliers of harmonic k's joint conditions (one per joint;
+        none on a one-piece shell)."""
+        j = self.ks.index(k)
+        return self.ny + j + (self.K + 1) * np.arange(self.joints)
+
+    def indices(self, k: int) -> np.ndarray:
+        """The indices of harmonic k's unknowns and of its joint conditions' multipliers: the
+        system an axisymmetric state's harmonic k decouples into."""
+        b = self.block(k)
+        return np.concatenate([np.arange(b.start, b.stop), self.multipliers(k)])
+
+    def displacement(self, U) -> np.ndarray:
+        """U with its multipliers set to zero: the displacement part, as a vector of the
+        same size (the monitor of a mode's amplitude, phi . U, reads only that part)."""
+        out = np.array(U, dtype=float)
+        out[self.ny:] = 0.0
+        return out
+
+    @cached_property
+    def origin(self) -> np.ndarray:
+        """The base equilibrium as unknowns: zero displacement and, with joints, the
+        multipliers that make it stationary, J^T lambda = dE/dy (least squares: the base is
+        stationary to its own solver's tolerance)."""
+        U = np.zeros(self.size)
+        if self.joints:
+            g, Hm = self.hessian(U, gradient=True)
+            U[self.ny:] = np.linalg.lstsq(-Hm[:self.ny, self.ny:], g[:self.ny], rcond=None)[0]
+        return U
+
     def coefficients(self, y) -> list:
         """The Chebyshev coefficients of each harmonic (layout of
         :func:`shellbvp.harmonics._derivative_operators`: piece, component, coefficient)."""
         return [Z @ yk for Z, yk in zip(self.Z, self.split(np.asarray(y)))]
 
-    def reduce(self, coefficients) -> np.ndarray:
-        """The unknowns y closest in the mass norm to the given Chebyshev coefficients (one
-        vector per harmonic; rigid motions and inadmissible parts dropped)."""
+    def reduce(self, coefficients, multipliers=None) -> np.ndarray:
+        """The unknowns closest in the mass norm to the given Chebyshev coefficients (one
+        vector per harmonic; rigid motions and inadmissible parts dropped), with the given
+        joint multipliers (default zero)."""
         out = []
         for k, Z, c in zip(self.ks, self.Z, coefficients):
             M = _H._mass(self.base, self._D, k)
             out.append(Z.T @ (M @ np.asarray(c, dtype=float)))
-        return np.concatenate(out)
+        lam = np.zeros(self.size - self.ny) if multipliers is None else multipliers
+        return np.concatenate(out + [np.asarray(lam, dtype=float)])
 
     def mass(self, k: int) -> np.ndarray:
         """The mass matrix int int |dx|^2 dA_target of harmonic k on its Chebyshev
@@ -409,13 +475,15 @@ class Fourier2D:
                     wq=self.base.wq.reshape(-1), ww=self.w_weights,
                     ends=tuple(tuple(rows) for rows in self._end_rows),
                     lids=np.array([sigma * z for _, sigma, z in self._lids]),
+                    joints=self._joints,
                     rims=np.array([self.base.ends[(0, "a")][2],
                                    self.base.ends[(self.base.s.shape[0] - 1, "b")][2]]))
 
     @cached_property
     def _programs(self) -> dict:
         sc = self.eq.scene
-        return _programs(sc.model, sc.material, tuple(e for e, _, _ in self._lids))
+        return _programs(sc.model, sc.material, tuple(e for e, _, _ in self._lids),
+                         self.joints)
 
     def _args(self, p):
         p = self._check_p(p)
@@ -501,8 +569,26 @@ class Fourier2D:
             Hm += self._lid_hessian(P)
             g -= self._load_gradient(loads)
             g += self._lid_gradient(y, P)
+            self._add_joints(y, g, Hm)
         Hm = (Hm + Hm.T) / 2
         return (g, Hm) if gradient else Hm
+
+    def _add_joints(self, U, g, Hm):
+        """Adds the joint conditions' part of the Lagrangian E - lambda . c(y) to its gradient
+        and Hessian: -J^T lambda and -c; -sum lambda_i R^T c_i'' R and the borders -J."""
+        C, S, ks = self._trig
+        nK, ny = self.K + 1, self.ny
+        for i, jt in enumerate(self._joints):
+            rows = slice(ny + i * nK, ny + (i + 1) * nK)
+            V = jt["R"] @ U[:ny]
+            c, dc, Hc = (np.asarray(a) for a in _joint_derivatives()(
+                V, U[rows], jt, C, S, ks, self.w_weights))
+            Jc = dc @ jt["R"]                                        # (K + 1, ny)
+            g[:ny] -= Jc.T @ U[rows]
+            g[rows] -= c
+            Hm[:ny, :ny] -= jt["R"].T @ Hc @ jt["R"]
+            Hm[:ny, rows] -= Jc.T
+            Hm[rows, :ny] -= Jc
 
     def _maps(self) -> np.ndarray:
         """T (J, 18, K + 1, 9): the local numbers' increments at omega_j from (U, U', U'') of
@@ -563,23 +649,35 @@ class Fourier2D:
         return self.energy(y, p), g, H
 
     # --- checks and uses ------------------------------------------------------------------
+    def block_modes(self, k: int, y=None, p=None, *, hessian=None):
+        """(eigenvalues, modes) of the Hessian's block k at y (default the base state,
+        :attr:`origin`) in the mass norm, ascending: :func:`shellbvp.harmonics.modes`' at an
+        axisymmetric state. With joints, those of the Lagrangian's Hessian on the null space
+        of harmonic k's linearised joint conditions (its second variation on the admissible
+        set), each mode's multipliers from H_yy phi + H_y,lambda phi_lambda = mu phi. The
+        modes are columns of full vectors (unit mass norm in y)."""
+        from scipy.linalg import null_space
+
+        y = self.origin if y is None else y
+        H = self.hessian(y, p) if hessian is None else hessian
+        b, m = self.block(k), self.multipliers(k)
+        Hb = H[b, b]
+        N = null_space(H[m, b]) if m.size else np.eye(Hb.shape[0])
+        vals, W = np.linalg.eigh(N.T @ Hb @ N)
+        Y = N @ W
+        out = np.zeros((self.size, Y.shape[1]))
+        out[b] = Y
+        if m.size:
+            out[m] = np.linalg.lstsq(H[b, m], Y * vals - Hb @ Y, rcond=None)[0]
+        return vals, out
+
     def block_eigenvalues(self, k: int, y=None, p=None, count: int = 3) -> np.ndarray:
-        """The ``count`` smallest eigenvalues of the Hessian's block k at y (default the base
-        state) in the mass norm: :func:`shellbvp.harmonics.modes`' at an axisymmetric
-        state."""
-        y = np.zeros(self.size) if y is None else y
-        H = self.hessian(y, p)
-        b = self.block(k)
-        return np.linalg.eigvalsh(H[b, b])[:count]
+        """The ``count`` smallest eigenvalues of block k (:meth:`block_modes`)."""
+        return self.block_modes(k, y, p)[0][:count]
 
     def mode(self, k: int, y=None, p=None) -> np.ndarray:
-        """The lowest eigenvector of block k (unit mass norm), as a full y vector."""
-        y = np.zeros(self.size) if y is None else y
-        H = self.hessian(y, p)
-        b = self.block(k)
-        out = np.zeros(self.size)
-        out[b] = np.linalg.eigh(H[b, b])[1][:, 0]
-        return out
+        """The lowest mode of block k (:meth:`block_modes`), as a full vector."""
+        return self.block_modes(k, y, p)[1][:, 0]
 
     def newton(self, y0, p=None, *, tol: float = 1e-10, max_iter: int = 25) -> NewtonResult:
         """Newton's method for a stationary point of E(.; p) from y0 (no line search): stops
@@ -628,8 +726,46 @@ def _synthesis(y, data):
     return jnp.concatenate([x, xs, xo, xss, xso, xoo]).transpose(1, 2, 0)
 
 
+def _joint_condition(V, joint, C, S, ks, ww):
+    """c (K + 1,): the joint's condition per harmonic, int cos(k omega) (angle(omega) -
+    reference angle) domega, angle the signed angle between the tangents on either side about
+    the hoop direction, atan2(x_s^r . (x_s^l x x_o) / |x_o|, x_s^l . x_s^r) (that of
+    :func:`shellbvp.harmonics._kink_hessian`): the joint is rigid. ``V`` (9 (K + 1),): per
+    harmonic U there, U' on the left and U' on the right (the joint's rows times y). The
+    projections on the class's harmonics are the conditions a Galerkin method imposes: the
+    multiplier field (the joint's moment) is discretised as the displacement is (JAX)."""
+    import jax.numpy as jnp
+
+    V = V.reshape(-1, 9)
+    k = ks[:, 0]
+
+    def vec(a, base):       # (r, omega, z) of the harmonics' parts a (K + 1, 3) + base
+        return jnp.stack([base[0] + a[:, 0] @ C, base[1] + a[:, 1] @ S, base[2] + a[:, 2] @ C])
+
+    x = vec(V[:, 0:3], joint["x0"])
+    xo = jnp.stack([(-k * V[:, 0]) @ S - x[1], (k * V[:, 1]) @ C + x[0], (-k * V[:, 2]) @ S])
+    xl, xr = vec(V[:, 3:6], joint["tl"]), vec(V[:, 6:9], joint["tr"])
+    sine = jnp.sum(xr * jnp.cross(xl, xo, axis=0), axis=0) / jnp.sqrt(jnp.sum(xo * xo, axis=0))
+    angle = jnp.arctan2(sine, jnp.sum(xl * xr, axis=0)) - joint["angle"]
+    return C @ (ww * angle)
+
+
 @lru_cache(maxsize=None)
-def _programs(model: str, material: str, lid_ends: tuple) -> dict:
+def _joint_derivatives():
+    """(c, dc/dV, the Hessian of lambda . c in V) of :func:`_joint_condition` (compiled)."""
+    from .jaxsetup import jax
+
+    def parts(V, lam, joint, C, S, ks, ww):
+        c = _joint_condition(V, joint, C, S, ks, ww)
+        dc = jax.jacfwd(_joint_condition)(V, joint, C, S, ks, ww)
+        Hc = jax.hessian(lambda v: lam @ _joint_condition(v, joint, C, S, ks, ww))(V)
+        return c, dc, Hc
+
+    return jax.jit(parts)
+
+
+@lru_cache(maxsize=None)
+def _programs(model: str, material: str, lid_ends: tuple, joints: int = 0) -> dict:
     """The compiled energy, its gradient and Hessian-vector product, and the synthesis, for
     one energy (model, material) and the ends that carry a pressure lid; the arrays are
     arguments, so every discretisation of the same shapes shares the programs."""
@@ -683,6 +819,10 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
             Xr_o, Xw_o = (-ks * U[0]) @ S, (ks * U[1]) @ C
             area = 0.5 * jnp.sum(ww * (Xr * (Xw_o + Xr) - Xw * (Xr_o - Xw)))
             E = E + P * data["lids"][j] * area / 3.0
+        ny, nK = y.shape[0] - joints * C.shape[0], C.shape[0]
+        for i, jt in enumerate(data["joints"]):     # the Lagrangian E - lambda . c
+            lam = y[ny + i * nK:ny + (i + 1) * nK]
+            E = E - lam @ _joint_condition(jt["R"] @ y[:ny], jt, C, S, data["ks"], ww)
         return E
 
     grad = jax.grad(energy)
@@ -712,7 +852,8 @@ def _programs(model: str, material: str, lid_ends: tuple) -> dict:
 
 def _admissible(base, D, k: int):
     """(Z, rigid): a mass-orthonormal basis of harmonic k's admissible coefficients (the
-    rows of :func:`shellbvp.harmonics._constraints`, U_w^0 = 0 at k = 0, the complement of
+    rows of :func:`shellbvp.harmonics._constraints` but the joints' rotation conditions,
+    U_w^0 = 0 at k = 0, the complement of
     the rigid motions in the class) and the rigid motions removed (name, coefficients)."""
     from scipy.linalg import cholesky, null_space, qr, solve_triangular
 
@@ -720,6 +861,8 @@ def _admissible(base, D, k: int):
     nb = base.degree + 1
     ndof = 3 * nb * P
     A = _H._constraints(base, k)
+    if P > 1:       # the joints' rotation conditions are imposed nonlinearly, with multipliers
+        A = np.delete(A, [_H._interface_row(base, k, i) for i in range(P - 1)], axis=0)
     rows = [A] if A.size else []
     if k == 0:
         W = np.zeros((nb * P, ndof))

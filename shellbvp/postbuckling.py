@@ -60,9 +60,12 @@ __all__ = ["LobedSystem", "Koiter", "LobedBranch", "LobedFold", "critical_point"
 #: degree increase of the finer discretisation that gives every lobed fold its error
 DEGREE_STEP = 8
 #: the continuation's settings on a lobed branch (unknowns of unit mass norm: ds = 0.02 is a
-#: change of shape of a fiftieth of the amplitude scale, or of p)
+#: change of shape of a fiftieth of the amplitude scale, or of p). Fold probes (the monitor
+#: prescribed past a fold the slope predicts) take the branch through folds where it turns
+#: sharply in (y, p): the bud's, where p runs over 22 while the amplitude moves by 0.006,
+#: and the default cap's nearly axisymmetric one at kappa R0 = -2.034
 LOBED_OPTIONS = ContinuationOptions(ds=0.005, ds_min=1e-7, ds_max=0.05, max_steps=400,
-                                    newton_tol=1e-9)
+                                    newton_tol=1e-9, fold_probe=True)
 #: relative tolerance of the bifurcation's p in the 2D discretisation
 CRITICAL_TOL = 1e-13
 #: ... and the step at which the secant is at the eigenvalue's round-off floor
@@ -75,7 +78,7 @@ class LobedSystem:
     ``monitor`` the amplitude phi . y of the critical mode (and its gradient phi)."""
 
     def __init__(self, f: Fourier2D, phi: np.ndarray):
-        self.f, self.phi = f, np.asarray(phi, dtype=float)
+        self.f, self.phi = f, f.displacement(phi)
         self.size = f.size
 
     def evaluate(self, y, p):
@@ -237,12 +240,13 @@ class LobedBranch:
 
 # --- the bifurcation in the 2D discretisation ------------------------------------------------
 def _axisymmetric(f: Fourier2D, p: float, y0=None, tol: float = 1e-13, maxiter: int = 20):
-    """y_0(p): the axisymmetric equilibrium in f's unknowns (Newton on harmonic 0)."""
-    b = f.block(0)
-    y = np.zeros(f.size) if y0 is None else np.array(y0, dtype=float)
+    """y_0(p): the axisymmetric equilibrium in f's unknowns (Newton on harmonic 0 and its
+    joint multipliers)."""
+    b = f.indices(0)
+    y = f.origin.copy() if y0 is None else np.array(y0, dtype=float)
     for _ in range(maxiter):
         g, Hm = f.hessian(y, p, gradient=True)
-        d = np.linalg.solve(Hm[b, b], g[b])
+        d = np.linalg.solve(Hm[np.ix_(b, b)], g[b])
         y[b] -= d
         if np.linalg.norm(d) <= tol * (1 + np.linalg.norm(y)):
             return y, Hm
@@ -251,13 +255,11 @@ def _axisymmetric(f: Fourier2D, p: float, y0=None, tol: float = 1e-13, maxiter: 
 
 
 def _lowest(f: Fourier2D, y, p):
-    """(mu, phi, H): the lowest eigenpair of the Hessian's block n at (y, p)."""
+    """(mu, phi, H): the lowest eigenpair of the Hessian's block n at (y, p)
+    (:meth:`Fourier2D.block_modes`: phi with its joint multipliers)."""
     Hm = f.hessian(y, p)
-    b = f.block(f.n)
-    mu, V = np.linalg.eigh(Hm[b, b])
-    phi = np.zeros(f.size)
-    phi[b] = V[:, 0]
-    return float(mu[0]), phi, Hm
+    mu, V = f.block_modes(f.n, y, p, hessian=Hm)
+    return float(mu[0]), V[:, 0], Hm
 
 
 def critical_point(f: Fourier2D, p_guess: float | None = None, *, tol: float = CRITICAL_TOL):
@@ -320,17 +322,18 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
     Hm = f.hessian(y_c, p_c)
     B = f.third(y_c, phi, phi, p_c)
     n = f.size
+    e = f.displacement(phi)             # the amplitude a = e . (y - y_0), e . psi = 0
     A = np.zeros((n + 1, n + 1))
-    A[:n, :n], A[:n, n], A[n, :n] = Hm, phi, phi
+    A[:n, :n], A[:n, n], A[n, :n] = Hm, e, e
     psi = np.linalg.solve(A, np.append(-0.5 * B, 0.0))[:n]
     E3 = float(psi @ B)
     E4 = f.fourth(y_c, phi, p_c)
     p2 = -(E3 + E4 / 6.0) / mu_p
     w_max = float(np.max(np.abs(_normal_displacement(f, phi))))
     h = float(f.eq.scene.h)
-    b0 = f.block(0)
+    b0 = f.indices(0)
     dy0 = np.zeros(n)
-    dy0[b0] = -np.linalg.solve(Hm[b0, b0], f.parameter_gradient(y_c, p_c)[b0])
+    dy0[b0] = -np.linalg.solve(Hm[np.ix_(b0, b0)], f.parameter_gradient(y_c, p_c)[b0])
     gamma = float(phi @ f.imperfection_gradient(y_c, phi, p_c))
     K = Koiter(n=f.n, p_c=float(p_c), parameter=f.eq.scene.parameter, p2=float(p2),
                b=float(p2 * h**2 / (w_max**2 * p_c)) if p_c != 0 else math.nan,
@@ -342,8 +345,10 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
 # --- following the lobed branch --------------------------------------------------------------
 def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
     """f's state y as g's unknowns (g finer: Chebyshev coefficients padded, harmonics
-    added as zero)."""
+    added as zero; the joints' multipliers of the harmonics f has kept, the others zero:
+    the conditions are the same integrals in both)."""
     out = []
+    lam = np.zeros(g.size)
     P = f.base.s.shape[0]
     for j, k in enumerate(g.ks):
         nb = g.degree + 1
@@ -352,9 +357,10 @@ def _transfer(y, f: Fourier2D, g: Fourier2D) -> np.ndarray:
             pad = np.zeros((P, 3, nb))
             pad[:, :, :f.degree + 1] = c
             out.append(pad.reshape(-1))
+            lam[g.multipliers(k)] = np.asarray(y)[f.multipliers(k)]
         else:
             out.append(np.zeros(P * 3 * nb))
-    return g.reduce(out)
+    return g.reduce(out, lam[g.ny:])
 
 
 def _fold_on(f: Fourier2D, critical, y, p, amplitude, tol) -> LobedFold:
@@ -540,7 +546,7 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
         for fo in folds:
             yg = _transfer(fo.y, f, g)
             # the finer mode may have the other sign: continue the amplitude's
-            a_g = float(phi_g @ yg)
+            a_g = float(g.displacement(phi_g) @ yg)
             try:
                 ff = _fold_on(g, crit_g, yg, fo.p, a_g, options.newton_tol)
             except ConvergenceError as exc:     # the fold stands; its error is unknown
