@@ -512,6 +512,14 @@ class Fourier2D:
         return np.asarray(self._programs["grad_p"](np.asarray(y, dtype=float),
                                                    *self._args(p), *self._rates(p)))
 
+    def hessian_rate(self, y, v, p=None) -> np.ndarray:
+        """d(H v)/dp at fixed y: the Hessian's rate in the parameter through the fields, the
+        pressure and the dead loads, applied to v (a jvp of ``hvp``, exact)."""
+        p = self._check_p(p)
+        return np.asarray(self._programs["hvp_p"](np.asarray(y, dtype=float),
+                                                  np.asarray(v, dtype=float),
+                                                  *self._args(p), *self._rates(p)))
+
     def third(self, y, u, v, p=None) -> np.ndarray:
         """D^3 E(y)[u, v, .]: the Hessian's derivative along v applied to u (exact)."""
         return np.asarray(self._programs["d3"](*(np.asarray(a, dtype=float) for a in (y, u, v)),
@@ -834,6 +842,10 @@ def _programs(model: str, material: str, lid_ends: tuple, joints: int = 0) -> di
         return jax.jvp(lambda F_, P_, L_: grad(y, data, F_, P_, L_, mat, h),
                        (F, P, loads), (dF, dP, dloads))[1]
 
+    def hvp_p(y, v, data, F, P, loads, mat, h, dF, dP, dloads):
+        return jax.jvp(lambda F_, P_, L_: hvp(y, v, data, F_, P_, L_, mat, h),
+                       (F, P, loads), (dF, dP, dloads))[1]
+
     def grad_e(y, data, F, P, loads, mat, h, dchange):
         """The gradient's rate along a change of the target forms (from none)."""
         return jax.jvp(lambda c: grad(y, dict(data, change=c), F, P, loads, mat, h),
@@ -846,7 +858,8 @@ def _programs(model: str, material: str, lid_ends: tuple, joints: int = 0) -> di
         return u @ jax.jvp(lambda z: d3(z, u, u, *args), (y,), (u,))[1]
 
     return dict(energy=jax.jit(energy), grad=jax.jit(grad), hvp=jax.jit(hvp),
-                grad_p=jax.jit(grad_p), grad_e=jax.jit(grad_e), d3=jax.jit(d3), d4=jax.jit(d4),
+                grad_p=jax.jit(grad_p), hvp_p=jax.jit(hvp_p), grad_e=jax.jit(grad_e),
+                d3=jax.jit(d3), d4=jax.jit(d4),
                 q=jax.jit(_synthesis))
 
 

@@ -54,8 +54,8 @@ from .errors import ConvergenceError
 from .fourier2d import Fourier2D
 from .results import Equilibrium
 
-__all__ = ["LobedSystem", "Koiter", "LobedBranch", "LobedFold", "critical_point", "koiter",
-           "imperfect_limit", "follow_bifurcation", "DEGREE_STEP", "LOBED_OPTIONS"]
+__all__ = ["LobedSystem", "Koiter", "LobedBranch", "LobedFold", "Critical", "critical_point",
+           "koiter", "imperfect_limit", "follow_bifurcation", "DEGREE_STEP", "LOBED_OPTIONS"]
 
 #: degree increase of the finer discretisation that gives every lobed fold its error
 DEGREE_STEP = 8
@@ -70,6 +70,10 @@ LOBED_OPTIONS = ContinuationOptions(ds=0.005, ds_min=1e-7, ds_max=0.05, max_step
 CRITICAL_TOL = 1e-13
 #: ... and the step at which the secant is at the eigenvalue's round-off floor
 FLOOR_TOL = 1e-9
+#: a secant stopped by the eigenvalue's round-off has settled where its last SETTLED iterates
+#: lie within SETTLED_TOL (relative): the cylinder with a growing ring (R/t = 100, eigenvalues
+#: up to 1e12, mu_n' = -0.37) scatters its mu_n by 2e-6
+SETTLED, SETTLED_TOL = 8, 1e-6
 
 
 class LobedSystem:
@@ -262,11 +266,23 @@ def _lowest(f: Fourier2D, y, p):
     return float(mu[0]), V[:, 0], Hm
 
 
-def critical_point(f: Fourier2D, p_guess: float | None = None, *, tol: float = CRITICAL_TOL):
+class Critical(tuple):
+    """(p_c, y_0(p_c), phi, mu_n'(p_c)) of :func:`critical_point`, with ``floor``: p_c's
+    uncertainty where the eigenvalue's round-off, not the tolerance, ended the secant (0
+    otherwise)."""
+
+    floor = 0.0
+
+
+def critical_point(f: Fourier2D, p_guess: float | None = None, *,
+                   tol: float = CRITICAL_TOL) -> Critical:
     """(p_c, y_0(p_c), phi, mu_n'(p_c)): the bifurcation into f's harmonic n in the 2D
     discretisation (module docstring), by the secant method on mu_n(p) from ``p_guess``
     (default the base equilibrium's p). The mode's sign: its largest normal displacement is
-    positive."""
+    positive. Where mu_n's round-off (eps times the largest eigenvalue, the stiffest short
+    waves, against a small rate mu_n') stops the secant before ``tol``, its iterates still
+    settle: the last SETTLED of them within SETTLED_TOL; p_c is then the last, and
+    ``floor`` the larger of their spread and the scatter of their mu over mu_n'."""
     p0 = f.eq.p if p_guess is None else float(p_guess)
     scale = max(abs(p0), 1.0)
     y = None
@@ -281,28 +297,47 @@ def critical_point(f: Fourier2D, p_guess: float | None = None, *, tol: float = C
     pa, pb = p0, p0 + 1e-6 * scale
     ma, mb = mu(pa), mu(pb)
     step = math.inf
+    last = [(pa, ma), (pb, mb)]
     for _ in range(30):
         if mb == ma:
             break
         pc = pb - mb * (pb - pa) / (mb - ma)
         pa, ma = pb, mb
         pb, mb = pc, mu(pc)
+        last.append((pb, mb))
         step = abs(pb - pa)
         if step <= tol * scale:
             break
-    # the secant's last steps wander at mu's round-off floor: accepted below FLOOR_TOL
-    if not step <= FLOOR_TOL * scale:
+    ps, ms = np.array(last[-SETTLED:]).T
+    spread = float(np.ptp(ps)) if len(last) >= SETTLED else math.inf
+    # the secant's last steps wander at mu's round-off floor: accepted below FLOOR_TOL, or
+    # where its iterates have settled (the floor then measured)
+    if not (step <= FLOOR_TOL * scale or spread <= SETTLED_TOL * scale):
         raise ConvergenceError(f"the bifurcation into n = {f.n} was not located in the 2D "
                                f"discretisation near {p0:.8g} (last secant step {step:.1e})")
     p_c = pb
     y_c = ys[p_c]
-    d = 1e-5 * scale
-    mu_p = (mu(p_c + d) - mu(p_c - d)) / (2 * d)
-    _, phi, _ = _lowest(f, y_c, p_c)
+    _, phi, Hm = _lowest(f, y_c, p_c)
     w = _normal_displacement(f, phi)
     if w[np.argmax(np.abs(w))] < 0:
         phi = -phi
-    return p_c, y_c, phi, float(mu_p)
+    # mu_n' = phi . dA/dp phi along the branch (the pencil (A, diag(I, 0)), phi unit in y):
+    # the Hessian's own rate plus its change along y_0'(p), exact
+    dy0 = _branch_rate(f, y_c, p_c, Hm)
+    mu_p = phi @ f.hessian_rate(y_c, phi, p_c) + phi @ f.third(y_c, phi, dy0, p_c)
+    out = Critical((p_c, y_c, phi, float(mu_p)))
+    if not step <= FLOOR_TOL * scale:
+        out.floor = max(spread, float(np.std(ms)) / abs(mu_p))
+    return out
+
+
+def _branch_rate(f: Fourier2D, y, p, Hm) -> np.ndarray:
+    """y_0'(p): the axisymmetric branch's rate (harmonic 0 and its multipliers), from the
+    Hessian Hm there."""
+    b0 = f.indices(0)
+    dy0 = np.zeros(f.size)
+    dy0[b0] = -np.linalg.solve(Hm[np.ix_(b0, b0)], f.parameter_gradient(y, p)[b0])
+    return dy0
 
 
 def _normal_displacement(f: Fourier2D, y) -> np.ndarray:
@@ -331,9 +366,7 @@ def koiter(f: Fourier2D, critical=None, *, direction: float = 1.0) -> tuple:
     p2 = -(E3 + E4 / 6.0) / mu_p
     w_max = float(np.max(np.abs(_normal_displacement(f, phi))))
     h = float(f.eq.scene.h)
-    b0 = f.indices(0)
-    dy0 = np.zeros(n)
-    dy0[b0] = -np.linalg.solve(Hm[np.ix_(b0, b0)], f.parameter_gradient(y_c, p_c)[b0])
+    dy0 = _branch_rate(f, y_c, p_c, Hm)
     gamma = float(phi @ f.imperfection_gradient(y_c, phi, p_c))
     K = Koiter(n=f.n, p_c=float(p_c), parameter=f.eq.scene.parameter, p2=float(p2),
                b=float(p2 * h**2 / (w_max**2 * p_c)) if p_c != 0 else math.nan,
@@ -540,7 +573,7 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
     if estimate_error:
         g = Fourier2D(eq, instability.n, int(K) + 1, degree=f.degree + DEGREE_STEP)
         crit_g = critical_point(g, p_c)
-        p_c_error = abs(crit_g[0] - p_c)
+        p_c_error = max(abs(crit_g[0] - p_c), crit.floor, crit_g.floor)
         phi_g = crit_g[2]
         fine = []
         for fo in folds:

@@ -245,3 +245,28 @@ def test_default_cap_bifurcates_subcritically_into_three_lobes(tmp_path, capsys)
     assert np.all(np.diff(kappa) < 0) and kappa[-1] < 4 <= kappa[-2]   # to the bound, past it
     assert abs(kappa[0] - (p_c + p2 * a[0] ** 2)) < 0.02 * abs(p2) * a[0] ** 2
     assert data[0, 3] == pytest.approx(a[0], rel=1e-3)      # harmonic n carries the mode
+
+
+@pytest.mark.slow
+def test_a_scene_of_three_pieces_the_growing_ring_on_a_cylinder(capsys):
+    """The example scene cylinder-growing-ring.toml: three pieces (the ring's ramp is
+    bounded by two breaks of the stimulus, each a rigid joint imposed at finite amplitude
+    with multipliers). Its bifurcation into n = 7 in the lobed states' discretisation
+    against ``first_instability``'s (the axisymmetric solver and the per-harmonic second
+    variation with the linearised joints: another discretisation), within the sum of the
+    two error estimates; the bifurcation is subcritical, as a cylinder's in axial
+    compression is (the classical imperfection-sensitive shell: Hutchinson & Koiter 1970)."""
+    from shellbvp.scenefile import example, load_scene
+
+    path = example("cylinder-growing-ring")
+    assert cli.main(["postbuckling", str(path)]) == 0
+    out = capsys.readouterr().out
+    m = re.search(r"^bifurcation: n = (\d+) at g = ([0-9.]+) \+- ([0-9.e+-]+)", out,
+                  re.MULTILINE)
+    assert m, out
+    n, p_c, p_c_error = int(m.group(1)), float(m.group(2)), float(m.group(3))
+    ref = load_scene(path).first_instability()
+    assert ref.kind == "bifurcation" and n == ref.n == 7
+    assert abs(p_c - ref.p) <= ref.error_estimate + p_c_error, (p_c, ref.p, p_c_error)
+    k = re.search(r"^Koiter: p2 = ([0-9.e+-]+), b = ([0-9.e+-]+): (\w+)", out, re.MULTILINE)
+    assert k and k.group(3) == "subcritical" and float(k.group(2)) < 0, out

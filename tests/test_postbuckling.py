@@ -57,6 +57,19 @@ def test_the_bifurcation_is_first_instabilitys():
     assert abs(p_c - ins.p) <= ins.error_estimate, (p_c, ins.p, ins.error_estimate)
 
 
+def test_the_eigenvalues_rate_is_its_central_difference():
+    """mu_n'(p_c) from the Hessian's exact rate along the axisymmetric branch against
+    central differences of mu_n with Richardson's extrapolation (steps 2e-3 and 1e-3: mu_n's
+    round-off, ~5e-11, spoils smaller ones): 1e-7."""
+    f, (p_c, y_c, _, mu_p), *_ = setup()
+
+    def mu(p):
+        return pb._lowest(f, pb._axisymmetric(f, p, y_c)[0], p)[0]
+
+    D = [(mu(p_c + d) - mu(p_c - d)) / (2 * d) for d in (2e-3, 1e-3)]
+    assert mu_p == pytest.approx((4 * D[1] - D[0]) / 3, rel=1e-7), D
+
+
 def test_koiter_p2_matches_the_computed_branch():
     """p - p_c = p2 a^2 + c a^4 fitted to lobed equilibria at a = 2e-4 .. 8e-4: its p2
     against the expansion's, within 2 % (the issue's bound); the cap is subcritical (the
