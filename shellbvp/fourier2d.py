@@ -741,7 +741,8 @@ def _joint_condition(V, joint, C, S, ks, ww):
     :func:`shellbvp.harmonics._kink_hessian`): the joint is rigid. ``V`` (9 (K + 1),): per
     harmonic U there, U' on the left and U' on the right (the joint's rows times y). The
     projections on the class's harmonics are the conditions a Galerkin method imposes: the
-    multiplier field (the joint's moment) is discretised as the displacement is (JAX)."""
+    multiplier field (the joint's moment) is discretised as the displacement is (JAX).
+    ``ww`` None: the angle's error at every omega instead (a check)."""
     import jax.numpy as jnp
 
     V = V.reshape(-1, 9)
@@ -755,7 +756,7 @@ def _joint_condition(V, joint, C, S, ks, ww):
     xl, xr = vec(V[:, 3:6], joint["tl"]), vec(V[:, 6:9], joint["tr"])
     sine = jnp.sum(xr * jnp.cross(xl, xo, axis=0), axis=0) / jnp.sqrt(jnp.sum(xo * xo, axis=0))
     angle = jnp.arctan2(sine, jnp.sum(xl * xr, axis=0)) - joint["angle"]
-    return C @ (ww * angle)
+    return angle if ww is None else C @ (ww * angle)
 
 
 @lru_cache(maxsize=None)

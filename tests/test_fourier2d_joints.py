@@ -43,6 +43,7 @@ def test_the_joint_adds_one_multiplier_per_harmonic_and_the_base_is_stationary(b
     assert abs(U[f.multipliers(2)][0]) < 1e-12 * abs(U[f.multipliers(0)][0]) + 1e-15
 
 
+@pytest.mark.slow
 def test_the_lagrangians_chain_rule_hessian_is_jaxs(bud):
     """At a state off the base (a random displacement in both harmonics and random
     multipliers): the assembled gradient and Hessian against jax.grad and a jvp."""
