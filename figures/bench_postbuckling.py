@@ -3,10 +3,9 @@
 
 * setup: ``Fourier2D(eq, 3, 2)`` + ``critical_point`` + ``koiter`` (the bifurcation in the
   2D discretisation and Koiter's coefficients);
-* branch: ``follow_bifurcation(ins, n_folds=0, estimate_error=False)``, the lobed branch from
-  the bifurcation to where the continuation ends (it stalls at kappa = -2.034, a nearly
-  axisymmetric fold the amplitude monitor cannot see: docs/postbuckling.md; its own setup
-  included).
+* branch: ``follow_bifurcation(ins, n_folds=1, estimate_error=False)``, the lobed branch from
+  the bifurcation to its first fold (kappa = -2.034, where it is nearly axisymmetric again,
+  passed by a fold probe: docs/postbuckling.md; its own setup included).
 
 The first call of each (tracing and compiling the JAX programs; JAX's disk cache off) is
 timed in a fresh process of its own; the steady state is the median (and min, max) of
@@ -65,7 +64,7 @@ def setup(ins):
 
 def branch(ins, quick=False):
     options = pb.LOBED_OPTIONS.with_(max_steps=QUICK_STEPS) if quick else pb.LOBED_OPTIONS
-    return shellbvp.follow_bifurcation(ins, n_folds=0, estimate_error=False, options=options)
+    return shellbvp.follow_bifurcation(ins, n_folds=1, estimate_error=False, options=options)
 
 
 TASKS = {"setup": lambda ins, quick: setup(ins), "branch": branch}

@@ -134,7 +134,9 @@ class Fourier2D:
         eq: the base equilibrium; n, K; ks: the harmonics (0, n, ..., K n).
         degree: Chebyshev degree per component and piece.
         points: N, trapezoidal points per period 2 pi / n (even).
-        sizes: the number of unknowns of each harmonic; size: their total.
+        sizes: the number of unknowns of each harmonic; ny: their total.
+        joints: the interfaces between pieces; size: ny plus one multiplier per harmonic
+            and joint (the unknowns U = (y, lambda), module docstring).
     """
 
     def __init__(self, eq: Equilibrium, n: int, K: int, *, degree: int | None = None,
