@@ -27,9 +27,7 @@ import math
 import time
 
 import numpy as np
-from scipy.linalg import null_space
-
-from _common import HERE, finish, parser, pyplot, write_csv
+from _common import finish, parser, pyplot, write_csv
 import shellbvp
 from shellbvp.problems import budding
 
@@ -47,9 +45,8 @@ STEM = "bud_lobed"
 #: 0.064 from degree 24 to 32 and by 0.0073 from 32 to 40)
 DISCRETISATIONS = ((2, 32), (3, 32), (4, 32))
 SUMMARY = ["K", "degree", "kbar_c", "kbar_c_error", "b", "p2", "kbar_fold", "kbar_fold_error",
-           "xi_fold", "joint_angle_error_at_fold", "kbar_shape", "xi_shape", "edge_w_min_over_h", "edge_w_max_over_h", "points",
-           "stop",
-           "seconds"]
+           "xi_fold", "joint_angle_error_at_fold", "kbar_shape", "xi_shape", "edge_w_min_over_h",
+           "edge_w_max_over_h", "points", "stop", "seconds"]
 #: the most harmonics of any branch (the CSV's columns)
 KMAX = max(K for K, _ in DISCRETISATIONS)
 HARMONICS = ["0", "n"] + [f"{j}n" for j in range(2, KMAX + 1)]
@@ -59,41 +56,25 @@ HEADER = (["K", "degree", "kbar", "amplitude", "xi", "lowest_eigenvalue"]
 EDGE = slice(6 + KMAX + 1, 6 + 2 * (KMAX + 1))
 
 
-def lowest(f, U, p) -> float:
-    """The lowest eigenvalue of the Lagrangian's Hessian on the null space of the
-    linearised joint conditions (all harmonics of the class at once)."""
-    Hm = f.hessian(U, p)
-    N = null_space(Hm[f.ny:, :f.ny])
-    return float(np.linalg.eigvalsh(N.T @ Hm[:f.ny, :f.ny] @ N)[0])
-
-
 def edge(f, U) -> np.ndarray:
-    """The patch edge's normal displacement per harmonic (cos(k omega) amplitudes), from
-    the joint's rows (the left side's U) and the base's normal there."""
-    jt = f._joints[0]
-    V = (jt["R"] @ U[:f.ny]).reshape(-1, 9)[:, :3]
-    t = jt["tl"] / np.linalg.norm(jt["tl"])
-    normal = np.array([-t[2], 0.0, t[0]])           # (sin theta, 0, cos theta)
-    return V @ normal
+    """The patch edge's normal displacement per harmonic (cos(k omega) amplitudes): U at
+    the joint along the base's normal there, (sin theta, 0, cos theta)."""
+    theta = f.base.ends[(0, "b")][0]
+    return f.joint_values(U)[:, :3] @ np.array([np.sin(theta), 0.0, np.cos(theta)])
 
 
 def joint_error(f, U) -> float:
     """The largest angle (rad) between the tangents across the patch edge at the state U,
     on 8x the rule's points over the whole circle (only its projections on the class's
     harmonics are imposed)."""
-    from shellbvp.fourier2d import _joint_condition
-
-    fine = f.with_points(8 * f.points, full_period=True)
-    C, S, ks = fine._trig
-    jt = f._joints[0]
-    return float(np.max(np.abs(_joint_condition(jt["R"] @ U[:f.ny], jt, C, S, ks, None))))
+    return float(np.max(np.abs(f.joint_angles(U))))
 
 
 def row(f, K, U, p, a, w_max, h, harmonics) -> list:
     pad = [math.nan] * (KMAX + 1)
     hm = (list(harmonics) + pad)[:KMAX + 1]
     w = (list(edge(f, U) / h) + pad)[:KMAX + 1]
-    return [K, f.degree, p, a, a * w_max / h, lowest(f, U, p), *hm, *w]
+    return [K, f.degree, p, a, a * w_max / h, float(f.eigenvalues(U, p)[0]), *hm, *w]
 
 
 def rows_of(br, h) -> list:
@@ -177,13 +158,13 @@ def plot(rows, shapes, out):
         ax.plot(np.where(st, np.nan, xi), kb, "C3" + style, lw=1.5, label=f"unstable, {d}")
         ax.plot(np.where(st, xi, np.nan), kb, "C0" + style, lw=1.5, label=f"stable, {d}")
         i = int(np.argmin(kb))
-        ax.plot(xi[i], kb[i], "ko", ms=4)
-    r2 = np.array([x for x in rows if x[0] == 2])
-    ax.axhline(r2[0, 2], color="0.6", lw=0.8)
+        ax.plot(xi[i], kb[i], "ko", ms=4, label="fold" if K == DISCRETISATIONS[0][0] else None)
+    ax.axhline(KBAR_SHAPE, color="0.6", lw=0.8,
+               label=rf"$\bar k$ = {KBAR_SHAPE:g} (the state drawn right)")
     ax.set_xlabel(r"$\xi = a\,w_{max}/h$ (lobe amplitude / thickness)")
     ax.set_ylabel(r"$\bar k$")
     ax.set_title("isotropic bud, n = 8: the lobed branch")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2)
     w = np.linspace(0, 2 * math.pi, 721)
     for x, style in zip(shapes, ("-", "--", ":")):
         K = int(x[0])
@@ -192,7 +173,7 @@ def plot(rows, shapes, out):
     bx.set_xlabel(r"$\omega$ (degrees)")
     bx.set_ylabel("normal displacement at the patch edge / h")
     bx.set_title("the patch edge on the stable lobed branch")
-    bx.legend(fontsize=8)
+    bx.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2))
     finish(fig, out, STEM)
 
 

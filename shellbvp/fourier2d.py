@@ -257,13 +257,10 @@ class Fourier2D:
         R = lambda j, side, order, c: _H._end_rows(b, j, side, order, c)  # noqa: E731
         rows = np.array([R(i, "b", 0, c) for c in range(3)] + [R(i, "b", 1, c) for c in range(3)]
                         + [R(i + 1, "a", 1, c) for c in range(3)])
-        th_l, lam_l, r, z = b.ends[(i, "b")]
-        th_r, lam_r = b.ends[(i + 1, "a")][:2]
+        x0, tl, tr = _H._joint_base(b, i)
         s = np.array([b.pieces[i][1]])
         ref = [float(np.ravel(reference_point(sc, j, s, np).theta)[0]) for j in (i, i + 1)]
-        return dict(R=block_diag(*(rows @ Z for Z in self.Z)), x0=np.array([r, 0.0, z]),
-                    tl=lam_l * np.array([np.cos(th_l), 0.0, -np.sin(th_l)]),
-                    tr=lam_r * np.array([np.cos(th_r), 0.0, -np.sin(th_r)]),
+        return dict(R=block_diag(*(rows @ Z for Z in self.Z)), x0=x0, tl=tl, tr=tr,
                     angle=ref[0] - ref[1])
 
     def fields(self, p=None, xp=np):
@@ -583,6 +580,22 @@ class Fourier2D:
         Hm = (Hm + Hm.T) / 2
         return (g, Hm) if gradient else Hm
 
+    def joint_values(self, U, i: int = 0) -> np.ndarray:
+        """(K + 1, 9): per harmonic the displacement at joint i and its s-derivative on the
+        left and on the right, (U, U'_left, U'_right) (components r, omega, z)."""
+        return (self._joints[i]["R"] @ np.asarray(U)[:self.ny]).reshape(-1, 9)
+
+    def joint_angles(self, U, i: int = 0, *, points: int | None = None) -> np.ndarray:
+        """The angle between the tangents across joint i less its reference value, at every
+        omega of the full-circle rule with ``points`` per period (default 8 times this
+        rule's): only its projections on the class's harmonics are imposed, so this is the
+        pointwise error of a state's joint (a check)."""
+        fine = self.with_points(8 * self.points if points is None else points,
+                                full_period=True)
+        C, S, ks = fine._trig
+        return np.asarray(_joint_condition(self.joint_values(U, i).reshape(-1),
+                                           self._joints[i], C, S, ks, None))
+
     def _add_joints(self, U, g, Hm):
         """Adds the joint conditions' part of the Lagrangian E - lambda . c(y) to its gradient
         and Hessian: -J^T lambda and -c; -sum lambda_i R^T c_i'' R and the borders -J."""
@@ -590,7 +603,7 @@ class Fourier2D:
         nK, ny = self.K + 1, self.ny
         for i, jt in enumerate(self._joints):
             rows = slice(ny + i * nK, ny + (i + 1) * nK)
-            V = jt["R"] @ U[:ny]
+            V = self.joint_values(U, i).reshape(-1)
             c, dc, Hc = (np.asarray(a) for a in _joint_derivatives()(
                 V, U[rows], jt, C, S, ks, self.w_weights))
             Jc = dc @ jt["R"]                                        # (K + 1, ny)
@@ -666,20 +679,23 @@ class Fourier2D:
         of harmonic k's linearised joint conditions (its second variation on the admissible
         set), each mode's multipliers from H_yy phi + H_y,lambda phi_lambda = mu phi. The
         modes are columns of full vectors (unit mass norm in y)."""
-        from scipy.linalg import null_space
-
         y = self.origin if y is None else y
         H = self.hessian(y, p) if hessian is None else hessian
         b, m = self.block(k), self.multipliers(k)
         Hb = H[b, b]
-        N = null_space(H[m, b]) if m.size else np.eye(Hb.shape[0])
-        vals, W = np.linalg.eigh(N.T @ Hb @ N)
-        Y = N @ W
+        vals, Y = _constrained_eigh(Hb, H[m, b])
         out = np.zeros((self.size, Y.shape[1]))
         out[b] = Y
         if m.size:
             out[m] = np.linalg.lstsq(H[b, m], Y * vals - Hb @ Y, rcond=None)[0]
         return vals, out
+
+    def eigenvalues(self, y, p=None, count: int = 1) -> np.ndarray:
+        """The ``count`` smallest eigenvalues of the Hessian at y on the whole class (with
+        joints, the Lagrangian's on the null space of the linearised joints: a negative one
+        is an unstable direction within the class)."""
+        Hm = self.hessian(y, p)
+        return _constrained_eigh(Hm[:self.ny, :self.ny], Hm[self.ny:, :self.ny])[0][:count]
 
     def block_eigenvalues(self, k: int, y=None, p=None, count: int = 3) -> np.ndarray:
         """The ``count`` smallest eigenvalues of block k (:meth:`block_modes`)."""
@@ -702,6 +718,16 @@ class Fourier2D:
             if history[-1][1] < tol * (1 + np.linalg.norm(y)):
                 return NewtonResult(y, True, history, p)
         return NewtonResult(y, False, history, p)
+
+
+def _constrained_eigh(H, J):
+    """(eigenvalues, eigenvectors) of the symmetric H on the null space of the rows J (-J
+    the Lagrangian Hessian's border; none: H itself), the vectors in H's coordinates."""
+    from scipy.linalg import null_space
+
+    N = null_space(J) if J.size else np.eye(H.shape[0])
+    vals, W = np.linalg.eigh(N.T @ H @ N)
+    return vals, N @ W
 
 
 def _synthesis(y, data):
@@ -739,11 +765,11 @@ def _synthesis(y, data):
 def _joint_condition(V, joint, C, S, ks, ww):
     """c (K + 1,): the joint's condition per harmonic, int cos(k omega) (angle(omega) -
     reference angle) domega, angle the signed angle between the tangents on either side about
-    the hoop direction, atan2(x_s^r . (x_s^l x x_o) / |x_o|, x_s^l . x_s^r) (that of
-    :func:`shellbvp.harmonics._kink_hessian`): the joint is rigid. ``V`` (9 (K + 1),): per
-    harmonic U there, U' on the left and U' on the right (the joint's rows times y). The
-    projections on the class's harmonics are the conditions a Galerkin method imposes: the
-    multiplier field (the joint's moment) is discretised as the displacement is (JAX).
+    the hoop direction (:func:`shellbvp.harmonics._joint_angle`): the joint is rigid. ``V``
+    (9 (K + 1),): per harmonic U there, U' on the left and U' on the right (the joint's
+    rows times y). The projections on the class's harmonics are the conditions a Galerkin
+    method imposes: the multiplier field (the joint's moment) is discretised as the
+    displacement is (JAX).
     ``ww`` None: the angle's error at every omega instead (a check)."""
     import jax.numpy as jnp
 
@@ -756,8 +782,7 @@ def _joint_condition(V, joint, C, S, ks, ww):
     x = vec(V[:, 0:3], joint["x0"])
     xo = jnp.stack([(-k * V[:, 0]) @ S - x[1], (k * V[:, 1]) @ C + x[0], (-k * V[:, 2]) @ S])
     xl, xr = vec(V[:, 3:6], joint["tl"]), vec(V[:, 6:9], joint["tr"])
-    sine = jnp.sum(xr * jnp.cross(xl, xo, axis=0), axis=0) / jnp.sqrt(jnp.sum(xo * xo, axis=0))
-    angle = jnp.arctan2(sine, jnp.sum(xl * xr, axis=0)) - joint["angle"]
+    angle = _H._joint_angle(xl, xr, xo) - joint["angle"]
     return angle if ww is None else C @ (ww * angle)
 
 

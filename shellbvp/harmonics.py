@@ -542,21 +542,32 @@ def _stiffness_parts(base: _Base, D) -> dict:
     return out
 
 
-@lru_cache(maxsize=None)
-def _kink_hessian():
-    """Hessian of the interface condition c = atan2(x_s^r . (x_s^l x x_o) / |x_o|,
-    x_s^l . x_s^r), the signed angle between the tangents on either side about the hoop
-    direction, in (x_s^l, x_s^r, x_o): the joint is rigid (c keeps its reference value, zero
-    where the tangent does not turn); its linear part is the rotation condition of
-    :func:`_constraints`."""
-    from .jaxsetup import jax, jit
+def _joint_angle(xl, xr, xo):
+    """The signed angle between the tangents x_s^l, x_s^r on either side of a joint about
+    the hoop direction x_o, atan2(x_s^r . (x_s^l x x_o) / |x_o|, x_s^l . x_s^r) (components
+    on the first axis; JAX): a rigid joint keeps it at its reference value."""
     import jax.numpy as jnp
 
-    def c(v):
-        xl, xr, xo = v[0:3], v[3:6], v[6:9]
-        return jnp.arctan2(_dot(xr, _cross(xl, xo)) / jnp.sqrt(_dot(xo, xo)), _dot(xl, xr))
+    return jnp.arctan2(_triple(xr, xl, xo) / jnp.sqrt(_dot(xo, xo)), _dot(xl, xr))
 
-    return jit(jax.hessian(c))
+
+def _joint_base(base: _Base, i: int):
+    """(x, x_s on the left, x_s on the right) of the base state at the joint between pieces
+    i and i + 1, in the frame (e_r, e_omega, e_z)."""
+    th_l, lam_l, r, z = base.ends[(i, "b")]
+    th_r, lam_r = base.ends[(i + 1, "a")][:2]
+    return (np.array([r, 0.0, z]), lam_l * np.array([np.cos(th_l), 0.0, -np.sin(th_l)]),
+            lam_r * np.array([np.cos(th_r), 0.0, -np.sin(th_r)]))
+
+
+@lru_cache(maxsize=None)
+def _kink_hessian():
+    """Hessian of the interface condition c (:func:`_joint_angle`) in (x_s^l, x_s^r, x_o):
+    the joint is rigid (c keeps its reference value, zero where the tangent does not turn);
+    its linear part is the rotation condition of :func:`_constraints`."""
+    from .jaxsetup import jax, jit
+
+    return jit(jax.hessian(lambda v: _joint_angle(v[0:3], v[3:6], v[6:9])))
 
 
 def _interface_terms(base: _Base, D) -> list:
@@ -577,11 +588,8 @@ def _interface_terms(base: _Base, D) -> list:
     mu = np.linalg.lstsq(A.T, g, rcond=None)[0]
     out = []
     for i in range(P - 1):
-        th_l, lam_l, r, _ = base.ends[(i, "b")]
-        th_r, lam_r = base.ends[(i + 1, "a")][:2]
-        tl = np.array([np.cos(th_l), 0.0, -np.sin(th_l)])
-        tr = np.array([np.cos(th_r), 0.0, -np.sin(th_r)])
-        v = np.concatenate([lam_l * tl, lam_r * tr, [0.0, r, 0.0]])
+        x, tl, tr = _joint_base(base, i)
+        v = np.concatenate([tl, tr, [0.0, x[0], 0.0]])          # x_o = (0, r, 0)
         Hc = np.asarray(_kink_hessian()(v))
         out.append((i, mu[_interface_row(base, 0, i)] / (2 * math.pi), Hc))
     return out

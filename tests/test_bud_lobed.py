@@ -8,16 +8,13 @@ class's harmonics are imposed); the fold located again with twice the points in 
 the fold's restabilisation seen in the spectrum of the Hessian on the joints' null space
 (not in the continuation's monitor)."""
 
-import math
 from functools import lru_cache
 
 import numpy as np
 import pytest
-from scipy.linalg import null_space
 
 import shellbvp
 from shellbvp import postbuckling as pb
-from shellbvp.fourier2d import _joint_condition
 
 pytestmark = pytest.mark.slow
 
@@ -31,12 +28,6 @@ def bud():
         ins, K=2, n_folds=1, p_stop=(0.0, 60.0), estimate_error=False,
         options=pb.LOBED_OPTIONS.with_(ds_max=0.5, max_steps=600))
     return ins, br
-
-
-def lowest(f, U, p):
-    Hm = f.hessian(U, p)
-    N = null_space(Hm[f.ny:, :f.ny])
-    return np.linalg.eigvalsh(N.T @ Hm[:f.ny, :f.ny] @ N)[0]
 
 
 def test_the_bud_bifurcates_subcritically_where_first_instability_says():
@@ -56,7 +47,7 @@ def test_the_lobed_branch_restabilises_at_its_fold():
     assert 25.0 < fo.p < br.p_c
     f = br.discretisation
     assert br.amplitude[-1] > fo.amplitude and br.p[-1] > fo.p      # past the fold
-    before, after = (lowest(f, br.states[j], br.p[j]) for j in (fo.index - 2, -1))
+    before, after = (f.eigenvalues(br.states[j], br.p[j])[0] for j in (fo.index - 2, -1))
     assert before < 0 < after, (before, after)
 
 
@@ -69,14 +60,9 @@ def test_the_joint_holds_pointwise_near_the_bifurcation():
     _, br = bud()
     f = br.discretisation
 
-    def ratio(U):
-        fine = f.with_points(8 * f.points, full_period=True)
-        C, S, ks = fine._trig
-        jt = f._joints[0]
-        V = jt["R"] @ U[:f.ny]
-        angle = np.asarray(_joint_condition(V, jt, C, S, ks, None))
-        turn = np.abs(V.reshape(-1, 9)[1:, 3:6]).sum() / np.linalg.norm(jt["tl"])
-        return np.max(np.abs(angle)) / turn
+    def ratio(U):     # the tangent's turn: harmonics n, 2n of x_s on the left over |x_s|
+        turn = np.abs(f.joint_values(U)[1:, 3:6]).sum() / f.base.ends[(0, "b")][1]
+        return np.max(np.abs(f.joint_angles(U))) / turn
 
     near, fold = ratio(br.states[0]), ratio(br.folds[0].y)
     assert near < 2e-3 and fold > 10 * near, (near, fold)
