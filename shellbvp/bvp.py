@@ -61,6 +61,7 @@ from .errors import ConvergenceError
 from .fields import interface_jumps
 from .kernels import kernels, monitor_and_gradient, untraceable
 from .meridian import MeridianStates
+from .mesh import APEX_PROBES, Mesh, single_mesh
 from .nodal import Collocated, Hint, Nodal, carried_roots, flat_nodes
 from .scene import Scene, per_scene
 
@@ -96,8 +97,6 @@ ROUND_OFF_LAM = 100.0
 def _chunk(n: int) -> int:
     return next((c for c in CHUNKS if c >= n), CHUNKS[-1])
 
-#: parameter values at which the fields are probed for anisotropy at a pole
-APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 #: relative difference of the target curvatures at a pole's offset point beyond which the
 #: pole is anisotropic (the reference's own is O(eps^2) ~ 1e-8 there)
 ANISOTROPY_TOL = 1e-6
@@ -136,33 +135,55 @@ class ShellBVP(Derivatives, MeridianStates):
     #: the roots themselves, converged to round-off, never at an earlier iterate
     jacobian_error = 0.0
 
-    def __init__(self, scene: Scene, eps: float | None = None):
+    def __init__(self, scene: Scene, eps: float | None = None, mesh: Mesh | None = None):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
-        eps_given = eps
+        mesh = single_mesh(scene) if mesh is None else mesh
+        ends = np.asarray(mesh.ends, dtype=float)
         L = scene.length
-        eps = POLE_OFFSET * L if eps is None else float(eps)
-        ends = scene.piece_ends
+        if not (isinstance(mesh, Mesh) and ends[0] == 0.0 and abs(ends[-1] - L) <= 1e-12 * L
+                and len(mesh.pieces) == ends.size - 1
+                and np.all(np.diff(ends) > 0) and set(mesh.pieces) == set(range(scene.pieces))):
+            raise ValueError("mesh must be a shellbvp.mesh.Mesh of this scene's meridian "
+                             "(shellbvp.mesh.mesh_of(scene))")
+        ends[-1] = L
+        eps_given = eps
         self.poles = tuple(e.kind == "pole" for e in scene.ends)
+        # the default pole offset: a fixed fraction of the element at the pole (of the
+        # meridian, where that element is at least a tenth of it: the single-domain case)
+        per_L = POLE_OFFSET if eps is None else 0.0
+        if eps is None:
+            pole_element = min(ends[1] - ends[0], ends[-1] - ends[-2])
+            if 10.0 * pole_element < L:
+                eps, per_L = 10.0 * POLE_OFFSET * pole_element, 0.0
+            else:
+                eps = POLE_OFFSET * L
+        eps = float(eps)
         for k, (pole, piece) in enumerate(zip(self.poles, (ends[1] - ends[0],
                                                             ends[-1] - ends[-2]))):
             if pole and not (0 < eps < piece / 10):
-                raise ValueError(f"eps must lie in (0, {piece / 10:g}) (a tenth of the piece "
+                raise ValueError(f"eps must lie in (0, {piece / 10:g}) (a tenth of the element "
                                  f"at the pole), got {eps!r}")
-        self.scene, self.eps, self.length = scene, eps, L
+        self.scene, self.eps, self.length, self.mesh = scene, eps, L, mesh
         self.s_a = eps if self.poles[0] else 0.0
         self.s_b = L - eps if self.poles[1] else L
-        #: d s_a / d L and d s_b / d L: the default pole offset scales with the meridian's
-        #: length, a given one is fixed (derivatives in the length move the second end)
-        #: whether eps was given (else it is the default, a fixed fraction of L)
+        #: whether eps was given (else it is the default, a fixed fraction of L or of the
+        #: element at the pole)
         self.eps_given = eps_given is not None
-        per_L = POLE_OFFSET if eps_given is None else 0.0
+        #: d s_a / d L and d s_b / d L: the default pole offset of the single-domain case
+        #: scales with the meridian's length, a given one or one of a graded mesh's pole
+        #: element is fixed (derivatives in the length move the second end)
         self.ends_per_length = (per_L if self.poles[0] else 0.0,
                                 1.0 - per_L if self.poles[1] else 1.0)
         self.a = np.concatenate([[self.s_a], ends[1:-1]])
         self.b = np.concatenate([ends[1:-1], [self.s_b]])
-        self.P = scene.pieces
-        self.jumps = interface_jumps(scene)
+        self.P = mesh.elements
+        #: the scene's piece of every element (the fields and geometry of that piece)
+        self.pieces = np.asarray(mesh.pieces, dtype=int)
+        #: for every element boundary, the scene interface it is, or -1 (a cut in a piece)
+        at = mesh.interfaces()
+        self.interface_of = np.where(at, np.cumsum(at) - 1, -1)
+        self.jumps = self._on_elements(interface_jumps(scene))
         self._fixed_jumps = (self.jumps, np.zeros_like(self.jumps))
         self.scale = scene.monitor_scale
         problem = untraceable(scene)
@@ -172,12 +193,26 @@ class ShellBVP(Derivatives, MeridianStates):
         #: kb1 != kb2 at a pole: curvatures diverge like log s there (module docstring)
         self.anisotropic_poles = (
             self.poles[0] and _anisotropic_pole(scene, 0, self.s_a),
-            self.poles[1] and _anisotropic_pole(scene, self.P - 1, self.s_b))
+            self.poles[1] and _anisotropic_pole(scene, scene.pieces - 1, self.s_b))
         self._k = kernels(scene, self.anisotropic_poles)
         #: the field parameters, an argument of every compiled function of the fields
         self.field_parameters = np.array(scene.field_parameters, dtype=float)
         self._refs = self._monitor_references()
         self.evaluations = 0
+
+    def on_mesh(self, mesh: Mesh) -> "ShellBVP":
+        """The same scene's BVP on the elements of ``mesh`` (the same pole offset where it
+        was given; the compiled programs are shared)."""
+        return ShellBVP(self.scene, self.eps if self.eps_given else None, mesh)
+
+    def _on_elements(self, per_interface) -> np.ndarray:
+        """Values per scene interface (P_scene - 1, k) -> per element boundary (P - 1, k),
+        zero at the cuts inside a piece."""
+        per_interface = np.asarray(per_interface, dtype=float)
+        out = np.zeros((self.P - 1,) + per_interface.shape[1:])
+        at = self.interface_of >= 0
+        out[at] = per_interface[self.interface_of[at]]
+        return out
 
     @property
     def anisotropic_apex(self) -> bool:
@@ -213,6 +248,16 @@ class ShellBVP(Derivatives, MeridianStates):
             / (sc.h / sc.curvature_radius) * stiff
 
     @property
+    def round_off_step(self) -> float:
+        """The relative Newton update at which the discrete equations reach their round-off
+        floor: ``ROUND_OFF_STEP`` (1e-8) down to h = 1e-3 R_c, growing like 1/h below (the
+        forces enter scaled by 12/h^2: updates stalled at 1e-9 at h = 1e-3 R_c, 1-3e-8 at
+        h = 1e-4 and 4e-8 at h = 1e-5)."""
+        from .continuation.newton import ROUND_OFF_STEP
+
+        return ROUND_OFF_STEP * max(1.0, 1e-3 * self.scene.curvature_radius / self.scene.h)
+
+    @property
     def lengths(self) -> np.ndarray:
         return self.b - self.a
 
@@ -228,18 +273,40 @@ class ShellBVP(Derivatives, MeridianStates):
         zero = np.zeros_like(s)
         return np.stack([r0 + zero, z0 + zero, th0 + zero, zero, zero, zero])
 
+    def reference_rate(self, s, order: int = 1):
+        """The ``order``-th s-derivative (1 or 2) of :meth:`reference` at s, exact:
+        (cos theta0, -sin theta0, -k1, 0, 0, 0) and (k1 sin theta0, k1 cos theta0, -k1',
+        0, 0, 0), k1 = -dtheta0/ds the reference's meridional curvature (k1' by JAX's
+        derivative of the geometry)."""
+        s = np.asarray(s, dtype=float)
+        _, _, th0, k1 = self.scene.geometry.evaluate(s)
+        zero = np.zeros_like(s)
+        if order == 1:
+            return np.stack([np.cos(th0) + zero, -np.sin(th0) + zero, -k1 + zero, zero,
+                             zero, zero])
+        from .jaxsetup import jax
+        import jax.numpy as jnp
+
+        geo = self.scene.geometry
+        dk1 = np.asarray(jax.jvp(lambda x: geo.evaluate(x, jnp)[3], (jnp.asarray(s),),
+                                 (jnp.ones_like(jnp.asarray(s)),))[1])
+        return np.stack([k1 * np.sin(th0) + zero, k1 * np.cos(th0) + zero, -dk1 + zero,
+                         zero, zero, zero])
+
     # --- nodal functions ----------------------------------------------------------------------
     def _layout(self, P, m, size=None):
         """Per node count: the piece of every flattened node and the padded chunks (of the
         size :func:`_chunk` picks, or of ``size``)."""
         key = (P, m, size)
+        if P != self.P:
+            raise ValueError(f"nodes on {P} elements given to a BVP of {self.P}")
         if key not in self._layouts:
             n = P * m
             size = _chunk(n) if size is None else size
             chunks = [(start, min(start + size, n),
                        np.minimum(np.arange(start, start + size), min(start + size, n) - 1))
                       for start in range(0, n, size)]          # padded with the last node
-            self._layouts[key] = (np.repeat(np.arange(P), m), chunks)
+            self._layouts[key] = (np.repeat(self.pieces[:P], m), chunks)
         return self._layouts[key]
 
     def _flat(self, kernel, s, Y, p, extra=(), *, scalars=(), chunk=None):
@@ -268,8 +335,9 @@ class ShellBVP(Derivatives, MeridianStates):
         if not ok.all():
             k = int(np.argmin(ok))
             raise ConvergenceError(
-                f"inner Newton for (lam1, k1) did not converge at s = {s.ravel()[k]:.6g} "
-                f"({self.scene.parameter} = {p:g}): the state is far from admissible "
+                f"inner Newton for (lam1, k1) did not converge at "
+                f"{self.scene.quote_s(s.ravel()[k], 6)} ({self.scene.quote(p)}): the state "
+                f"is far from admissible "
                 f"(lam1 <= 0, or the constitutive inversion folds); take a smaller step")
 
     def rhs(self, s, Y, p, hint=None) -> Nodal:
@@ -304,7 +372,7 @@ class ShellBVP(Derivatives, MeridianStates):
         at an interface); nan (the pole-like guess) where that fails. A one-piece scene has
         no interface: there the pole-like guess is the start at every node (it needs no
         sequential scan, which is one more program to compile)."""
-        if self.P == 1:
+        if self.scene.pieces == 1:
             return np.full((s.size, 2), np.nan)
         X, _, ok, _, _ = self._scan(s, Y, p)
         return np.where(ok[:, None], X[:, [0, 2]], np.nan)
@@ -386,7 +454,7 @@ class ShellBVP(Derivatives, MeridianStates):
             self.scene.check_fields(F0[:, None], 0, p)
         if not ok:
             raise ConvergenceError(f"inner Newton for (lam1, k1) did not converge at a pole "
-                                   f"({self.scene.parameter} = {p:g})")
+                                   f"({self.scene.quote(p)})")
         return r, Ja, Jb, Jp
 
     def monitor(self, ya, yb):
@@ -402,10 +470,10 @@ class ShellBVP(Derivatives, MeridianStates):
         ``order``-th derivative in p): f_r and f_z jump by -(12/h^2) Q at a ring carrying
         Q per radian (:class:`shellbvp.scene.Ring`), the corner condition of its potential."""
         sc = self.scene
-        out = np.zeros((self.P - 1, 6))
+        out = np.zeros((sc.pieces - 1, 6))
         for ring, i in zip(sc.rings, sc.ring_interfaces):
             out[i, 4:6] -= 12.0 / sc.h ** 2 * ring.conjugate(p, order)
-        return out
+        return self._on_elements(out)
 
     def jumps_at(self, p) -> tuple[np.ndarray, np.ndarray]:
         """The jumps across the interfaces at p, (P - 1, 6) (:attr:`jumps`, the rigid

@@ -181,11 +181,11 @@ def test_inner_warm_start_is_carried_to_second_order_from_the_states_it_was_take
         U = fold.U.copy()
         system.evaluate(U, fold.p)
         hint = system._hint
-        taken_at = flat_nodes(system.split(U))
+        taken_at = flat_nodes(system.states(U))
         assert not np.shares_memory(hint.y, U)
         U -= size * direction                      # in place, as Newton updates its iterate
         assert np.array_equal(hint.y, taken_at)
-        y_new = flat_nodes(system.split(U))
+        y_new = flat_nodes(system.states(U))
         start = carried_roots(hint, y_new, fold.p)
         system.evaluate(U, fold.p)                 # its roots at the new states
         roots = system._hint.q

@@ -38,9 +38,15 @@ class DiscreteSystem(Protocol):
 class Discretisation(DiscreteSystem, Protocol):
     """A discrete system of a BVP, as every method's ``discretise`` returns: it can be
     started from a profile, interpolated, refined (the ladder that gives every fold its
-    error estimate) and carried to another resolution."""
+    error estimate) and carried to another resolution.
+
+    ``rung_ratio``: the factor by which the discretisation error shrinks from one rung to
+    the next (0 where it converges exponentially: the finer point is then the exact one to
+    leading order); an error estimate from the change c between two rungs is
+    c / (1 - rung_ratio), the coarser point's error where the order holds."""
 
     bvp: object
+    rung_ratio: float
 
     def from_profile(self, profile: Callable) -> np.ndarray:
         """U from a callable s -> (6, n) of the BVP's unknowns."""
@@ -77,6 +83,9 @@ class Transplantable(Protocol):
 
     def split(self, U) -> np.ndarray:
         """U as (pieces, components, nodes)."""
+
+    def states(self, U) -> np.ndarray:
+        """The state at the nodes, (pieces, components, nodes)."""
 
 
 @runtime_checkable
@@ -190,6 +199,10 @@ class ShellProblem(NodalBVP, Protocol):
 
     def carried_hint(self, hint, Y, Y_new, p, resample): ...
 
+    def reference(self, s): ...
+
+    def reference_rate(self, s): ...
+
 
 def inside(s, i: int, P: int) -> np.ndarray:
     """The points s (increasing) of piece i of P as seen from that piece: a profile gives an
@@ -232,13 +245,27 @@ def first_rung(system, tol: float, *, exact: bool = False):
 
 
 class NodalSystem:
-    """Unknowns at the same nodes t_0 = 0 < ... < t_M = 1 of every piece: U = Y (P, n, M + 1)
-    flattened (piece, component, node). Rows: the n boundary conditions of the BVP, the
-    interior equations of each piece (n M rows, from the subclass), and the n interface
-    conditions y(b_i) + jump_i = y(a_{i+1}) at each interface (continuity, but for a
-    shell's tangent angle at a kink of its geometry). Subclasses implement
-    :meth:`interior`.
+    """Unknowns at the same nodes t_0 = 0 < ... < t_M = 1 of every piece: U = Y - Y0
+    (P, n, M + 1) flattened (piece, component, node), the state Y less the BVP's reference
+    state Y0 at the nodes (a shell's undeformed meridian: U is the displacement, with the
+    moment and forces; zero for a BVP without one, or where the class sets ``displaced``
+    False). Rows: the n boundary conditions of the BVP, the interior equations of each piece
+    (n M rows, from the subclass), and the n interface conditions y(b_i) + jump_i =
+    y(a_{i+1}) at each interface (continuity, but for a shell's tangent angle at a kink of
+    its geometry). Subclasses implement :meth:`interior`.
+
+    Why a displacement: a thin shell's strains under a small load are tiny against its
+    coordinates (1e-7 at R/t = 1e5 and a deflection of h/100), and a differentiation matrix
+    on a short element (~ N^2 / length ~ 1e7) amplifies the round-off of coordinates of
+    order one (1e-16) to ~1e-9 in their derivatives: the strains would carry 1 % of noise.
+    The displacement's round-off is relative to itself; the reference's derivative enters
+    exactly (:meth:`shellbvp.bvp.ShellBVP.reference_rate`), not differentiated numerically.
     """
+
+    #: whether the unknowns are the state less the BVP's reference (else the state itself)
+    displaced = True
+    #: the error's factor per rung (:class:`Discretisation`): 0 for exponential convergence
+    rung_ratio = 0.0
 
     def __init__(self, bvp, t):
         if not implements(bvp, NodalBVP):
@@ -259,6 +286,21 @@ class NodalSystem:
         #: the jumps of the unknowns across the interfaces (P - 1, n): a shell's, else none
         self.jumps = np.asarray(bvp.jumps, dtype=float) if self._shell \
             else np.zeros((self.P - 1, n))
+        #: the reference state Y0 and its s-derivative at the nodes (P, n, M + 1), each
+        #: piece's from its own side of an interface; zero where there is none
+        self.Y0 = np.zeros((self.P, n, self.M + 1))
+        self.Y0_rate = np.zeros_like(self.Y0)
+        if self._shell and self.displaced:
+            for i in range(self.P):
+                si = inside(self.s[i], i, self.P)
+                self.Y0[i] = bvp.reference(si)
+                self.Y0_rate[i] = bvp.reference_rate(si)
+        #: the component of every unknown (the continuation's norm scales each component
+        #: on its own, :func:`shellbvp.continuation.arclength.unknown_weights`)
+        self.groups = np.repeat(np.tile(np.arange(n), self.P), self.M + 1)
+        #: the reference's own mismatch across each interface, Y0(b_i) + jump - Y0(a_{i+1})
+        #: (round-off): the interface rows in the displacement
+        self._offsets = self.Y0[:-1, :, -1] - self.Y0[1:, :, 0]
 
     @property
     def jacobian_error(self) -> float:
@@ -267,23 +309,39 @@ class NodalSystem:
         BVP does not state it."""
         return self.bvp.jacobian_error if self._shell else math.inf
 
+    @property
+    def round_off_step(self) -> float:
+        """The relative Newton update at which the equations reach their round-off floor:
+        the shell BVP's (a thin shell's grows like 1/h), 0 (the default floor) else."""
+        return self.bvp.round_off_step if self._shell else 0.0
+
     # --- unknowns ----------------------------------------------------------------------------
     def split(self, U) -> np.ndarray:
+        """U (or a direction or difference of unknowns) as (P, n, M + 1)."""
         return np.asarray(U, dtype=float).reshape(self.P, self.n, self.M + 1)
+
+    def states(self, U) -> np.ndarray:
+        """The state Y = Y0 + U at the nodes, (P, n, M + 1)."""
+        return self.Y0 + self.split(U)
+
+    def from_states(self, Y) -> np.ndarray:
+        """U from states Y (P, n, M + 1) at the nodes."""
+        return (np.asarray(Y, dtype=float) - self.Y0).ravel()
 
     def from_profile(self, profile) -> np.ndarray:
         """U from a profile s -> (n, len(s)), each piece from its own side of an interface
         (:func:`inside`)."""
-        return np.stack([np.asarray(profile(inside(self.s[i], i, self.P)), dtype=float)
-                         for i in range(self.P)]).ravel()
+        return self.from_states(np.stack([
+            np.asarray(profile(inside(self.s[i], i, self.P)), dtype=float)
+            for i in range(self.P)]))
 
     def nodes(self, U, p):
-        """The nodes t (M + 1,) and the stacked values (n P, M + 1) there."""
-        return self.t, self.split(U).reshape(self.n * self.P, self.M + 1)
+        """The nodes t (M + 1,) and the stacked states (n P, M + 1) there."""
+        return self.t, self.states(U).reshape(self.n * self.P, self.M + 1)
 
     def transfer(self, U, p, other) -> np.ndarray:
         d = self.dense(U, p)
-        return d(other.t).ravel()
+        return other.from_states(d(other.t).reshape(other.P, other.n, -1))
 
     def col(self, i, c):
         return (i * self.n + c) * (self.M + 1)
@@ -293,13 +351,16 @@ class NodalSystem:
         warm-started from this system's last evaluation (as during its solves): starts for
         evaluating the state elsewhere (:meth:`shellbvp.bvp.ShellBVP.state`). By the
         evaluation's own compiled call (:meth:`_collocate`), not a second program."""
-        nodal, _, _ = self._collocate(self.split(U), p)
+        nodal, _, _ = self._collocate(self.states(U), p)
         return np.asarray(nodal.hint.q).reshape(self.P, self.M + 1, 2)
 
     # --- the system --------------------------------------------------------------------------
     def interior(self, Y, p, nodal, into=None):
         """Per piece: (R_i (n M,), dR_i/dY_i (n M, n (M + 1)), dense or sparse, dR_i/dp),
-        given ``nodal``, the BVP's right-hand side at the nodes (:class:`shellbvp.bvp.Nodal`).
+        given the unknowns Y = U as (P, n, M + 1) (:meth:`split`: the displacement where the
+        system is ``displaced``, whose equations are y' - Y0' = f(Y0 + U) - Y0' with the
+        reference's rate ``Y0_rate``) and ``nodal``, the BVP's right-hand side at the
+        states (:class:`shellbvp.bvp.Nodal`).
         ``into``: given to methods whose ``dense_jacobian`` is True: per piece, the view of
         the Jacobian that dR_i/dY_i occupies; the method writes the block there and returns
         that view (no copy of the largest array of an evaluation)."""
@@ -335,15 +396,15 @@ class NodalSystem:
         return slice(start, start + self.n * (self.M + 1), self.M + 1)
 
     def evaluate(self, U, p):
-        Y = self.split(U)
+        V = self.split(U)
         P, M, n = self.P, self.M, self.n
-        nodal, (rb, Ja, Jb, Jpb), mon = self._collocate(Y, p)
+        nodal, (rb, Ja, Jb, Jpb), mon = self._collocate(self.Y0 + V, p)
         self._monitor = (np.array(U, dtype=float), mon)   # Newton asks for it at the same U
         J = into = None
         if self.dense_jacobian:
             J = np.zeros((self.size, self.size))
             into = [J[r0:r0 + n * M, c0:c0 + n * (M + 1)] for r0, c0 in self._interior_slots()]
-        blocks = self.interior(Y, p, nodal, into=into)
+        blocks = self.interior(V, p, nodal, into=into)
         self.evaluations += 1
         R, Rp = [rb], [Jpb]
         eye = np.eye(n) if P > 1 else None
@@ -361,7 +422,7 @@ class NodalSystem:
                 parts.append((row, self.col(i, 0), Ji))
             row += n * M
             if i < P - 1:   # the interface b_i = a_{i+1}: y(b_i) + jump_i = y(a_{i+1})
-                R.append(Y[i, :, -1] + jumps[i] - Y[i + 1, :, 0])
+                R.append(V[i, :, -1] - V[i + 1, :, 0] + (jumps[i] + self._offsets[i]))
                 Rp.append(jumps_p[i])
                 parts.append((row, self._columns(i, M), eye))
                 parts.append((row, self._columns(i + 1, 0), -eye))
@@ -393,7 +454,7 @@ class NodalSystem:
         return np.concatenate(R), J, np.concatenate(Rp)
 
     def monitor(self, U):
-        Y = self.split(U)
+        Y = self.states(U)
         if self._monitor is not None and np.array_equal(self._monitor[0], U):
             m, ga, gb = self._monitor[1]
         else:

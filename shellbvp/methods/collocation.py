@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConvergenceError
-from .base import NodalSystem, inside
+from .base import NodalSystem, ShellProblem, implements, inside
 
 __all__ = ["Collocation", "CollocationSystem"]
 
@@ -64,13 +64,15 @@ class Collocation:
             raise ValueError(f"nodes must be an integer in [8, max_nodes], got {self.nodes!r}")
 
     def discretise(self, bvp) -> "CollocationSystem":
-        return CollocationSystem(bvp, clustered_mesh(self.nodes), self.max_nodes)
+        return CollocationSystem(_on_elements(bvp), clustered_mesh(self.nodes),
+                                 self.max_nodes)
 
     def solve(self, bvp, p, profile):
         """solve_bvp on the stacked problem from ``profile`` (s -> (6, n)); returns
         (system on solve_bvp's final mesh, U, stats). Raises ConvergenceError on failure."""
         from scipy.integrate import solve_bvp
 
+        bvp = _on_elements(bvp)
         n, P, L = bvp.n, bvp.P, bvp.lengths
         memo = {}
 
@@ -117,15 +119,27 @@ class Collocation:
             res = solve_bvp(fun, bc, t0, Y0, fun_jac=fun_jac, bc_jac=bc_jac, tol=tol,
                             bc_tol=tol, max_nodes=self.max_nodes)
         except ConvergenceError as exc:
-            raise ConvergenceError(f"solve_bvp at {bvp.scene.parameter} = {p:g}: {exc}") \
+            raise ConvergenceError(f"solve_bvp at {bvp.scene.quote(p)}: {exc}") \
                 from None
         stats = dict(method="collocation", status=int(res.status), nodes=int(res.x.size),
                      niter=int(res.niter), max_rms_residual=float(np.max(res.rms_residuals)))
         if not res.success:
-            raise ConvergenceError(f"solve_bvp did not converge at {bvp.scene.parameter} = "
-                                   f"{p:g}: {res.message} ({stats}); try a closer guess")
+            raise ConvergenceError(f"solve_bvp did not converge at {bvp.scene.quote(p)}: "
+                                   f"{res.message} ({stats}); try a closer guess")
         system = CollocationSystem(bvp, res.x, self.max_nodes)
         return system, res.y.ravel(), stats
+
+
+def _on_elements(bvp):
+    """A shell's BVP on the elements of its mesh (:func:`shellbvp.mesh.mesh_of`: graded into
+    the layers of a thin shell, each element then meshed as a piece is): the same mesh of
+    ``nodes`` points in every element resolves a layer at any thinness."""
+    if not implements(bvp, ShellProblem):
+        return bvp
+    from ..mesh import mesh_of
+
+    mesh = mesh_of(bvp.scene)
+    return bvp if mesh == bvp.mesh else bvp.on_mesh(mesh)
 
 
 class CollocationSystem(NodalSystem):
@@ -134,6 +148,10 @@ class CollocationSystem(NodalSystem):
     y_mid = (y_j + y_{j+1})/2 - h_j/8 (F_{j+1} - F_j), with F = (b - a) f."""
 
     dense_jacobian = False
+    #: the unknowns are the state itself (its equations difference neighbouring nodes)
+    displaced = False
+    #: a rung halves every interval of a 4th-order scheme
+    rung_ratio = 1.0 / 16.0
 
     def __init__(self, bvp, t, max_nodes: int = 20000):
         super().__init__(bvp, t)
@@ -184,7 +202,7 @@ class CollocationSystem(NodalSystem):
         """Stacked cubic Hermite interpolant (solve_bvp's own interpolant) in t."""
         from scipy.interpolate import CubicHermiteSpline
 
-        Y = self.split(U)
+        Y = self.states(U)
         F = self.bvp.lengths[:, None, None] * self.bvp.rhs(self.s, Y, p).f
         splines = [CubicHermiteSpline(self.t, Y[i].T, F[i].T, axis=0) for i in range(self.P)]
         return lambda t: np.concatenate([splines[i](np.atleast_1d(t)).T

@@ -63,6 +63,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..mesh import mesh_of, singular_poles
 from ..scene import load_rate
 from .chebyshev import chebyshev_points, differentiation_matrix
 
@@ -72,8 +73,6 @@ __all__ = ["Ritz", "RitzSystem", "MIN_DEGREE", "MAX_DEGREE", "REFINE_STEP"]
 MIN_DEGREE, MAX_DEGREE = 6, 64
 #: degree added per rung of the refinement ladder (the geometric layers grow with it)
 REFINE_STEP = 4
-#: parameter values at which the fields are probed for a singular apex
-APEX_PROBES = (0.0, 1.0, 10.0, 100.0)
 
 
 #: the innermost element at a singular pole, in thicknesses h (:attr:`Ritz.core`). The
@@ -175,24 +174,6 @@ def graded_piece(a: float, b: float, inner: float, grading: float, elements: int
     x = np.concatenate([[0.0], np.cumsum(lengths)])
     x[-1] = span
     return list(a + x) if not at_end else list(b - x[::-1])
-
-
-def singular_poles(scene) -> tuple:
-    """Per end, whether it is a pole where the target is singular for some probed parameter
-    value: a cone (g1 != g2) or an anisotropic curvature (kb1 != kb2) on the axis."""
-    out = []
-    for end, (piece, s) in enumerate(((0, 0.0), (scene.pieces - 1, scene.length))):
-        found = False
-        if scene.ends[end].kind == "pole":
-            for p in APEX_PROBES:
-                g1, g2, kb1, kb2 = (float(np.asarray(v).ravel()[0])
-                                    for v in scene.field_values(piece, np.array([s]), p))
-                if all(math.isfinite(v) for v in (g1, g2, kb1, kb2)) and \
-                        (g1 != g2 or kb1 != kb2):
-                    found = True
-                    break
-        out.append(found)
-    return tuple(out)
 
 
 def singular_apex(scene) -> bool:
@@ -387,6 +368,8 @@ class RitzSystem:
     #: relative error of the Jacobian: round-off (JAX's exact derivatives)
     jacobian_error = 0.0
     dense_jacobian = False
+    #: p-refinement on a geometric mesh converges exponentially (:class:`Discretisation`)
+    rung_ratio = 0.0
 
     def __init__(self, bvp, method: Ritz):
         sc = bvp.scene
@@ -417,9 +400,19 @@ class RitzSystem:
         graded_ends = (self.singular[0] or (given is not None and not graded_default),
                        self.singular[1])
         edges, counts, layers = [], [], [0, 0]
+        # a thin shell's layers (:func:`shellbvp.mesh.mesh_of`): its elements graded into
+        # every layer, the singular or loaded poles among them, where the scene's mesh is
+        # graded and no pole grading is asked for here
+        thin = mesh_of(sc)
+        if thin.graded and method.layers is None and method.core is None:
+            graded_ends, thin_cuts = (False, False), np.asarray(thin.ends)
+            owner = np.asarray(thin.pieces)
+        else:
+            thin_cuts = None
         for i in range(P):
             a, b = ends[i], ends[i + 1]
-            cuts = list(np.linspace(a, b, method.elements + 1))
+            cuts = list(np.linspace(a, b, method.elements + 1)) if thin_cuts is None else \
+                [a] + list(thin_cuts[1:][owner == i][:-1]) + [b]
             ends_here = [end for end in (1, 0) if graded_ends[end]
                          and i == (0 if end == 0 else P - 1)]
             if given is None and ends_here:
@@ -551,6 +544,12 @@ class RitzSystem:
         self._c = np.asarray(sc.field_parameters, dtype=float)
         self.evaluations = 0
         self._monitor = None
+
+    @property
+    def groups(self) -> np.ndarray:
+        """The kind of every unknown: the continuation's norm scales each kind on its own
+        (:func:`shellbvp.continuation.arclength.unknown_weights`)."""
+        return self.kind
 
     def _reduce_cores(self, cores, qc, free, scale, kind):
         """Make the core elements (the innermost at singular poles) of degree qc: their
@@ -757,7 +756,7 @@ class RitzSystem:
         self.bvp.evaluations += 1
         if not np.all(V[..., 2] > 0):
             raise ConvergenceError(f"energy method: the meridional stretch is not positive at "
-                                   f"{sc.parameter} = {p:g} (a step too long)")
+                                   f"{sc.quote(p)} (a step too long)")
         n = E * nq
         Lq = np.repeat(self.L, nq)
         nf = F.shape[-1]
@@ -828,7 +827,7 @@ class RitzSystem:
         self._monitor = (np.array(U, dtype=float), self._observable(xfull, V, gI, I))
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(v_all))):
             raise ConvergenceError(f"energy method: non-finite energy gradient at "
-                                   f"{sc.parameter} = {p:g}")
+                                   f"{sc.quote(p)}")
         return R, J, Rp
 
     def _reduced_system(self, U, p, Rf, Rpf, H, I, gI, V, xfull, k, BE):
@@ -863,7 +862,7 @@ class RitzSystem:
         self._monitor = (np.array(U, dtype=float), self._observable(xfull, V, gI, I))
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J.data))):
             raise ConvergenceError(f"energy method: non-finite energy gradient at "
-                                   f"{self.scene.parameter} = {p:g}")
+                                   f"{self.scene.quote(p)}")
         return R, J, Rp
 
     def _end_values(self, xfull, I):

@@ -102,6 +102,16 @@ class Shooting:
                                  "steps) exclude each other: give one")
 
     def discretise(self, bvp) -> "ShootingSystem":
+        """The shooting system of ``bvp``; ValueError for a point load at a pole, which
+        shooting does not resolve (the state diverges like log s there, and the integration
+        starts at a fixed offset from the pole that no rung of its ladder refines: the
+        error estimate would miss the offset's error)."""
+        from ..mesh import loaded_poles
+
+        if any(loaded_poles(bvp.scene)):
+            raise ValueError("method 'shooting' cannot resolve a point load at a pole (the "
+                             "state diverges like log s there); use method 'spectral' (the "
+                             "default), 'collocation' or 'energy'")
         segments = default_segments(bvp) if self.segments is None else self.segments
         if self.steps is not None:
             return ShootingSystem(bvp, segments, steps=self.steps)
@@ -155,6 +165,9 @@ def _compiled(vector_field, adaptive):
 class ShootingSystem:
     """Multiple shooting of a BVP as a finite system R(U, p) = 0 (6 (n + 1) unknowns)."""
 
+    #: a rung divides the ODE tolerance by RTOL_STEP, the error with it
+    rung_ratio = 1.0 / RTOL_STEP
+
     def __init__(self, bvp, segments: int, rtol: float = 1e-10, steps: int | None = None,
                  fold_rtol: float | None = None):
         self.bvp = bvp
@@ -171,6 +184,8 @@ class ShootingSystem:
         self.jump_segments = (np.arange(1, bvp.P) * per_piece - 1).astype(int)
         self.per_piece, self.n, self.segments = per_piece, self.s0.size, segments
         self.size = 6 * (self.n + 1)
+        #: the component of every unknown (the continuation's norm scales each on its own)
+        self.groups = np.tile(np.arange(6), self.n + 1)
         self.rtol, self.steps = rtol, steps
         self._tol = rtol if steps is None else float(steps)
         self._flow, self._dense = _compiled(bvp.vector_field(), steps is None)
@@ -207,7 +222,7 @@ class ShootingSystem:
             Rp[rows] = sens_p[j] + jumps_p[j]
         if not (np.all(np.isfinite(R)) and np.all(np.isfinite(J)) and np.all(np.isfinite(Rp))):
             raise ConvergenceError(
-                f"shooting: non-finite residual ({self.bvp.scene.parameter} = {p:g}); the ODE "
+                f"shooting: non-finite residual ({self.bvp.scene.quote(p)}); the ODE "
                 f"solver or the inner Newton failed on a segment - use more segments or a "
                 f"closer guess")
         return R, J, Rp
