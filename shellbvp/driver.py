@@ -8,12 +8,14 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .continuation import (ContinuationOptions, fold_at_monitor, fold_ladder, fold_sensitivity,
                            ladder, newton, pseudo_arclength, refine_fold, tangent)
+from .continuation.arclength import point_at_parameter
+from .continuation.estimates import change, refine_points
 from .errors import ConvergenceError
 from .models import MATERIAL_PARAMETER
 from .methods import Collocation, as_method
@@ -116,6 +118,7 @@ def solve(scene: Scene, p: float, *, method="spectral", guess=None, eps: float |
     t0 = time.perf_counter()
     try:
         system, U, stats = _discrete_solve(method, bvp, float(p), profile)
+        bvp = system.bvp                    # the method's (e.g. on its elements)
         err = math.nan
         if estimate_error:
             fine = system.refined()
@@ -138,7 +141,8 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
            p_stop=(-math.inf, math.inf), w_stop=(-math.inf, math.inf), n_folds=None,
            options: ContinuationOptions | None = None, eps: float | None = None,
            progress=None, energies: bool = True, on_stall: str = "raise",
-           check_ellipticity: bool = False, check_stability: bool = False) -> Branch:
+           check_ellipticity: bool = False, check_stability: bool = False,
+           estimate_errors: bool = True, at=()) -> Branch:
     """Continue ``scene`` in its parameter from the undeformed state at p0.
 
     Pseudo-arclength continuation (:mod:`shellbvp.continuation`) of the method's discrete
@@ -162,6 +166,15 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     discrete energy at fixed parameter is not positive definite
     (:func:`shellbvp.stability.stable_point`): the loss of stability of the axisymmetric
     state, or, where the reduced energy is not elliptic, of the model itself.
+    ``estimate_errors=True`` gives every point its error estimate (``Branch.p_error``,
+    ``w_error``, ``energy_error``): the point solved again on the method's next finer
+    discretisation (:func:`shellbvp.continuation.estimates.refine_points`, one or two
+    Newton updates per point); False skips it (nan), for a branch used only to bracket
+    its folds, which carry their own estimates.
+    ``at``: parameter values at which the branch's states are wanted exactly: every
+    crossing of each value between two points is solved with the parameter prescribed and
+    inserted in the branch (``Branch.requested``: (value, point index) pairs, in order);
+    a value the branch does not reach is absent from it.
     """
     if on_stall not in ("raise", "stop"):
         raise ValueError(f"on_stall must be 'raise' or 'stop', got {on_stall!r}")
@@ -173,8 +186,8 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
         raise ValueError(f"options must be a ContinuationOptions, got {type(options).__name__}")
     t0 = time.perf_counter()
     method = _continuation_method(method)
-    bvp = _shell_bvp(scene, eps)
-    system = method.discretise(bvp)
+    system = method.discretise(_shell_bvp(scene, eps))
+    bvp = system.bvp                        # the method's (e.g. on its elements)
     H = bvp.scale
     stop = ""
     surface = implements(system, MidSurface)
@@ -196,7 +209,9 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
         pts, brackets = pseudo_arclength(
             system, system.from_profile(bvp.reference), float(p0), options=options,
             p_stop=p_stop, monitor_stop=(w_stop[0] / H, w_stop[1] / H), n_folds=n_folds,
-            progress=progress, admissible=admissible if checks else None)
+            progress=progress, admissible=admissible if checks else None,
+            describe=lambda pt: f"{scene.quote(pt.p, 10)} (w = "
+                                f"{scene.display.length_scale * pt.monitor * H:.6g})")
     except ConvergenceError as exc:
         if exc.round_off and scene.material == "cg" and scene.lam > 1e3:
             raise ConvergenceError(f"lam = {scene.lam:g} is beyond what double precision "
@@ -210,7 +225,7 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
                                                         or len(brackets) < n_folds):
         # the branch did not reach any of its stops: say so rather than end in silence
         stop = (f"options.max_steps = {options.max_steps} points reached at "
-                f"{scene.parameter} = {pts[-1].p:.6g}, w = {pts[-1].monitor * H:.6g} "
+                f"{scene.quote(pts[-1].p)}, w = {pts[-1].monitor * H:.6g} "
                 f"before any stop; raise max_steps or ds_max")
     folds = []
     for i, j in brackets:
@@ -223,22 +238,75 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
             # edge of the model's validity); keep the branch up to it
             pts = pts[:i + 1]
             stop = stall_reason(system, pts, f"the branch turns back in {scene.parameter} "
-                                 f"and w at once after {scene.parameter} = {pts[i].p:.6g}: "
-                                 f"{exc}")
+                                 f"and w at once after {scene.quote(pts[i].p)}: {exc}")
             break
+    requested = ()
+    if len(at):
+        pts, requested, moved = _states_at(system, pts, at, options)
+        folds = [replace(f, index=moved[f.index]) for f in folds]
     folds = tuple(folds)
-    if energies:
-        E = np.array([system.energies(pt.U, pt.p) if surface else
-                      bvp.energies(system.dense(pt.U, pt.p), pt.p) for pt in pts])
-    else:
-        E = np.full((len(pts), 3), math.nan)
+
+    def energy(system, U, p):
+        """(E_s, E_b, E_p), nan where the quadrature between the nodes finds no inner root
+        (next to a loss of ellipticity; the state at the nodes stands)."""
+        try:
+            return system.energies(U, p) if surface else \
+                system.bvp.energies(system.dense(U, p), p)
+        except ConvergenceError:
+            return (math.nan,) * 3
+
+    E = np.array([energy(system, pt.U, pt.p) for pt in pts]) if energies \
+        else np.full((len(pts), 3), math.nan)
+    refined, note = None, "not estimated (estimate_errors=False)"
+    p_err, w_err, E_err = (np.full(len(pts), math.nan) for _ in range(3))
+    if estimate_errors:
+        held = ["p" if k in {i for _, i in requested} else None for k in range(len(pts))]
+        refined = refine_points(system, pts, held=held)
+        note = refined.reason
+        for k, (pt, fine) in enumerate(zip(pts, refined.points)):
+            if fine is None:
+                continue
+            U_f, p_f, m_f = fine
+            p_err[k] = change(pt.p, p_f, ratio=system.rung_ratio)
+            w_err[k] = change(pt.monitor, m_f, scene.geometry.size / H,
+                              system.rung_ratio) * H
+            if energies:
+                E_err[k] = change(E[k].sum(), sum(energy(refined.system, U_f, p_f)),
+                                  ratio=system.rung_ratio)
     return Branch(scene=scene, p=np.array([pt.p for pt in pts]),
                   w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
                   stretching_energy=E[:, 0], bending_energy=E[:, 1], load_potential=E[:, 2],
                   arclength=np.array([pt.arclength for pt in pts]), folds=folds,
                   stats=dict(system.describe(), points=len(pts), evaluations=bvp.evaluations,
                              wall_time=time.perf_counter() - t0),
-                  points=tuple(pts), system=system, stop=stop, method=method)
+                  points=tuple(pts), system=system, stop=stop, method=method,
+                  p_error=p_err, w_error=w_err, energy_error=E_err, refined=refined,
+                  error_note=note, requested=requested)
+
+
+def _states_at(system, pts, values, options):
+    """The branch ``pts`` with the states at the parameter values ``values`` inserted
+    (every crossing between two points solved with p prescribed, from the interpolation
+    between them; a point already at a value is that state): (points, ((value, index),
+    ...) in order of arclength, old index -> new index)."""
+    values = [float(v) for v in values]
+    out, requested, moved = [], [], {}
+    for k, b in enumerate(pts):
+        if k:
+            a = pts[k - 1]
+            hits = sorted((v for v in values if (a.p - v) * (b.p - v) < 0),
+                          key=lambda v: abs(v - a.p))
+            for v in hits:
+                frac = (v - a.p) / (b.p - a.p)
+                q = point_at_parameter(system, a.U + frac * (b.U - a.U), v, v,
+                                       tol=SOLVE_NEWTON_TOL, sign_like=a)
+                out.append(replace(q, arclength=a.arclength
+                                   + frac * (b.arclength - a.arclength)))
+                requested.append((v, len(out) - 1))
+        moved[k] = len(out)
+        out.append(b)
+        requested.extend((v, len(out) - 1) for v in values if b.p == v)
+    return out, tuple(requested), moved
 
 
 @dataclass(frozen=True)
@@ -269,15 +337,16 @@ def at_monitor(scene: Scene, w: float, *, p0: float = 0.0, method="spectral",
     """
     if not math.isfinite(w):
         raise ValueError(f"w must be finite, got {w!r}")
-    bvp = _shell_bvp(scene, eps)
-    system = _continuation_method(method).discretise(bvp)
+    system = _continuation_method(method).discretise(_shell_bvp(scene, eps))
+    bvp = system.bvp
     target = w / bvp.scale
     sign = 1.0 if target >= 0 else -1.0
     stop = (-math.inf, target) if sign > 0 else (target, math.inf)
     pts, _ = pseudo_arclength(system, system.from_profile(bvp.reference), float(p0),
                               options=options or ContinuationOptions.to_first_fold(),
                               monitor_stop=stop)
-    if sign * (pts[-1].monitor - target) < 0:
+    # the continuation's last step lands on the target (to round-off) where it crosses it
+    if sign * (pts[-1].monitor - target) < -1e-12 * (1.0 + abs(target)):
         raise ConvergenceError(f"the branch did not reach w = {w:g} (last w = "
                                f"{pts[-1].monitor * bvp.scale:.6g})")
     q = min(pts[-2:], key=lambda q: abs(q.monitor - target))
@@ -316,7 +385,7 @@ def fold_near(scene: Scene, near, *, monitor: float | None = None, p: float | No
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a shellbvp.Scene, got {type(scene).__name__}")
     old = near.system
-    if not implements(old, Transplantable) or old.bvp.P != scene.pieces:
+    if not implements(old, Transplantable) or old.bvp.scene.pieces != scene.pieces:
         raise ValueError("fold_near needs a fold found by the Chebyshev method on a scene with "
                          "the same pieces")
     options = ContinuationOptions() if options is None else options

@@ -244,8 +244,12 @@ class Fold:
         w: the observable there, in R0; ``monitor`` = w / H.
         error_estimate: change of p on the last rung of the refinement ladder (``nan`` for
             a fold located on one discretisation only).
+        monitor_error: the same for the monitor (``w_error`` = monitor_error H).
         index: the branch point after which it lies (-1 when not part of a branch).
         stats: location statistics (solves, iterations, refinements, resolution, time).
+        previous: the fold on the ladder's rung before (None for a fold located on one
+            discretisation): any quantity's change from it is that quantity's error
+            estimate.
     ``fold.equilibrium`` is the full state there (built on demand).
     """
 
@@ -256,10 +260,17 @@ class Fold:
     error_estimate: float = math.nan
     index: int = -1
     stats: dict = field(repr=False, default_factory=dict)
+    monitor_error: float = math.nan
+    previous: Any = field(repr=False, compare=False, default=None)
 
     @property
     def w(self) -> float:
         return float(self.monitor * self.system.bvp.scale)
+
+    @property
+    def w_error(self) -> float:
+        """The error estimate of :attr:`w` (R0)."""
+        return float(self.monitor_error * self.system.bvp.scale)
 
     def __repr__(self) -> str:
         name = self.system.bvp.scene.parameter if self.system is not None else "p"
@@ -293,6 +304,18 @@ class Branch:
             stall of a continuation followed with ``on_stall="stop"``.
         method: the method object the branch was followed with (its points are solved
             again with it, e.g. at a parameter value between them).
+        p_error, w_error, energy_error: per point, the change of p, w and the energy when
+            the point is solved on the method's next finer discretisation with p held (0
+            then in p_error), or with w held where the branch is steep, next to a fold (0
+            in w_error): every point's error estimate (:mod:`shellbvp.continuation.
+            estimates`); nan where it could not be computed (``error_note`` says why) or
+            was not asked for (``follow(..., estimate_errors=False)``).
+        refined: the points on that finer discretisation
+            (:class:`shellbvp.continuation.estimates.Refined`; None without estimates):
+            any other quantity's change between the two is its error estimate.
+        error_note: why some or all estimates are missing ("" if none is).
+        requested: (value, point index) of every state asked for at a parameter value
+            (``follow(..., at=...)``), in order along the branch.
     ``branch.equilibrium(i)`` is the full state at point i (built on demand).
     """
 
@@ -310,6 +333,18 @@ class Branch:
     stop: str = ""
     load_potential: np.ndarray = field(repr=False, default=None)
     method: Any = field(repr=False, compare=False, default=None)
+    p_error: np.ndarray = field(repr=False, default=None)
+    w_error: np.ndarray = field(repr=False, default=None)
+    energy_error: np.ndarray = field(repr=False, default=None)
+    refined: Any = field(repr=False, compare=False, default=None)
+    error_note: str = ""
+    requested: tuple = ()
+
+    def __post_init__(self):
+        nan = np.full(np.shape(self.p), math.nan)
+        for name in ("p_error", "w_error", "energy_error"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, nan.copy())
 
     def __repr__(self) -> str:
         name = self.scene.parameter
@@ -333,22 +368,30 @@ class Branch:
 
         return plot_branch(self, ax, instability=instability, label=label)
 
-    def rows(self):
-        """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order."""
+    def rows(self, errors: bool = False):
+        """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order; with
+        ``errors``, each followed by (p_error, w_error, energy_error) (a fold's: its
+        estimates in p and w, its energy not computed)."""
         out = [(self.p[i], self.w[i], self.energy[i], self.stretching_energy[i],
-                self.bending_energy[i], self.arclength[i], 0) for i in range(self.p.size)]
+                self.bending_energy[i], self.arclength[i], 0)
+               + ((self.p_error[i], self.w_error[i], self.energy_error[i]) if errors else ())
+               for i in range(self.p.size)]
         for f in sorted(self.folds, key=lambda f: f.index, reverse=True):
             i = f.index
             s = 0.5 * (self.arclength[i] + self.arclength[min(i + 1, self.p.size - 1)])
-            out.insert(i + 1, (f.p, f.w, math.nan, math.nan, math.nan, s, 1))
+            out.insert(i + 1, (f.p, f.w, math.nan, math.nan, math.nan, s, 1)
+                       + ((f.error_estimate, f.w_error, math.nan) if errors else ()))
         return out
 
     def to_csv(self, path) -> None:
-        """Write the diagram to ``path`` atomically; units are in the column names."""
+        """Write the diagram to ``path`` atomically; units are in the column names, every
+        value's error estimate in the ``_error`` columns (nan where there is none)."""
         buf = io.StringIO()
         wr = csv.writer(buf, lineterminator="\n")
-        wr.writerow([self.scene.parameter_column, "w_over_R0", "energy", "stretching_energy",
-                     "bending_energy", "arclength", "is_fold"])
-        for r in self.rows():
-            wr.writerow([repr(float(v)) for v in r[:6]] + [int(r[6])])
+        p = self.scene.parameter_column
+        wr.writerow([p, "w_over_R0", "energy", "stretching_energy", "bending_energy",
+                     "arclength", "is_fold", f"{p}_error", "w_error_over_R0", "energy_error"])
+        for r in self.rows(errors=True):
+            wr.writerow([repr(float(v)) for v in r[:6]] + [int(r[6])]
+                        + [repr(float(v)) for v in r[7:]])
         atomic_write_text(path, buf.getvalue())

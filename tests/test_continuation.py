@@ -21,6 +21,7 @@ from shellbvp import Chebyshev, Collocation, ContinuationOptions, ConvergenceErr
 from bratu import BratuBVP
 from shellbvp.continuation import (locate_fold, newton, polish_fold, pseudo_arclength,
                                    refine_fold)
+from shellbvp.continuation.arclength import point_at_monitor, point_at_parameter
 from shellbvp.continuation.folds import bracket_estimate
 from shellbvp.methods.chebyshev import chebyshev_points, coefficients, differentiation_matrix
 from shellbvp.problems import cap_eversion as ce
@@ -118,12 +119,46 @@ def test_scalar_fold_is_passed_and_located_exactly():
 def test_a_start_on_the_edge_of_p_stop_is_followed():
     """p0 on the edge of p_stop: the start's p is p0 only to round-off, on either side (a
     budding branch from kbar = 0 once ended at its start, p = -1e-28), so the start is
-    exempt from the stop test; the next points are not."""
+    exempt from the stop test and does not count as leaving the range; the branch ends on
+    the far edge, exactly (its last step shortened onto it)."""
     for edge in (0.0, 1e-15, -1e-15):           # the start just inside, on, just outside
         pts, _ = pseudo_arclength(Scalar(), np.array([0.0]), 0.0, options=opts(0.1, 0.3),
                                   p_stop=(edge, 0.5))
         assert len(pts) > 2 and all(edge <= q.p <= 0.5 for q in pts[1:-1])
-        assert not (edge <= pts[-1].p <= 0.5)      # stopped on leaving the range
+        assert pts[-1].p == 0.5                    # landed on the edge it left by
+
+
+def test_the_last_step_lands_on_the_stop_it_crosses():
+    """A branch that leaves p_stop or monitor_stop ends on the bound the last step crossed,
+    solved with that coordinate prescribed: exactly there, on the branch (its residual
+    converged), oriented as the step was, and the same state as the wide run's branch holds
+    there (the steps are measured in fractions of the range asked for, so the points between
+    differ; the branch is one)."""
+    wide = dict(p_stop=(-1.0, 4.0), monitor_stop=(-1.0, 12.0))
+    plain, _ = pseudo_arclength(CountedBratu(24), np.zeros(25), 0.0, options=opts(0.5, 2.0),
+                                **wide)
+    for stops in (dict(p_stop=(-1.0, 2.5)), dict(monitor_stop=(-1.0, 3.0))):
+        system = CountedBratu(24)
+        pts, _ = pseudo_arclength(system, np.zeros(25), 0.0, options=opts(0.5, 2.0),
+                                  **(wide | stops))
+        last = pts[-1]
+        if "p_stop" in stops:
+            assert last.p == 2.5
+        else:
+            assert abs(last.monitor - 3.0) <= 1e-10
+        R, _, _ = system.evaluate(last.U, last.p)
+        assert np.abs(R).max() <= 1e-8
+        assert last.tangent[1] * pts[-2].tangent[1] > 0      # the same way along
+        # the wide branch's own state there: its first crossing of the stop, solved exactly
+        key = (lambda q: q.p - 2.5) if "p_stop" in stops else (lambda q: q.monitor - 3.0)
+        i = next(i for i in range(len(plain) - 1) if key(plain[i]) * key(plain[i + 1]) <= 0)
+        a, b = plain[i], plain[i + 1]
+        f = key(a) / (key(a) - key(b))
+        U = (1 - f) * a.U + f * b.U
+        p = (1 - f) * a.p + f * b.p
+        there = (point_at_parameter(system, U, p, 2.5, tol=1e-12) if "p_stop" in stops
+                 else point_at_monitor(system, U, p, 3.0, tol=1e-12))
+        assert abs(there.p - last.p) <= 1e-9 and abs(there.monitor - last.monitor) <= 1e-9
 
 
 def test_predicted_stop_keeps_points_within_the_tolerance_for_fewer_evaluations():
@@ -336,7 +371,11 @@ def test_cap_branch_csv_round_trip(tmp_path, cap_branch):
     with open(path) as f:
         rows = list(csv.DictReader(f))
     assert list(rows[0]) == ["kappa_R0", "w_over_R0", "energy", "stretching_energy",
-                             "bending_energy", "arclength", "is_fold"]
+                             "bending_energy", "arclength", "is_fold", "kappa_R0_error",
+                             "w_error_over_R0", "energy_error"]
+    for name, values in (("kappa_R0_error", br.p_error), ("w_error_over_R0", br.w_error),
+                         ("energy_error", br.energy_error)):
+        assert np.array_equal([float(r[name]) for r in rows], values, equal_nan=True)
     assert len(rows) == br.p.size
     assert np.allclose([float(r["kappa_R0"]) for r in rows], br.p, rtol=0, atol=0)
     assert np.allclose([float(r["w_over_R0"]) for r in rows], br.w, rtol=0, atol=0)

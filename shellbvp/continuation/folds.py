@@ -10,6 +10,8 @@ and since p is stationary there, an error delta in m costs only O(delta^2) in p.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import math
 import time
 
@@ -289,7 +291,7 @@ def _in_end_state_coordinate(system, a, b, *, options, index, t0) -> Fold:
                                "method")
 
     def ends(U):
-        Y = system.split(U)
+        Y = system.states(U)
         return Y[0, :, 0], Y[-1, :, -1]
 
     (ya, yb), (za, zb) = ends(a.U), ends(b.U)
@@ -388,6 +390,7 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
     round-off exceeds fold_tol, the degree cannot grow, or after ``max_refinements``."""
     solves, iterations = current.stats["solves"], current.stats["newton_iterations"]
     change = previous = math.nan
+    moves = []          # the monitor's change per rung
     for k in range(1, options.max_refinements + 1):
         try:
             finer = current.system.refined()
@@ -399,6 +402,7 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
         solves += fine.stats["solves"]
         iterations += fine.stats["newton_iterations"]
         previous, change = change, abs(fine.p - current.p)
+        moves.append(abs(fine.monitor - current.monitor))
         # two consecutive changes within the tolerance, the estimate the larger: where the
         # error oscillates in sign with the degree, one rung can sit near a zero crossing
         # and a single change understate the error 20x (a thick deep plane-strain cap,
@@ -415,7 +419,8 @@ def climb(coarse, first, current, advance, *, options: ContinuationOptions, inde
             if noise > options.fold_tol:
                 raise _below_round_off(fine.p, noise, options.fold_tol)
             estimate = max(change, noise) + location_weight * fine.stats["location"]
-            return fine.with_estimate(
+            return replace(fine, monitor_error=max(moves[-2:]), previous=current) \
+                .with_estimate(
                 estimate, index=index,
                 stats=dict(coarse=coarse.describe(), first=first.describe(), refinements=k,
                            resolution=finer.describe(), solves=solves,

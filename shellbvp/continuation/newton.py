@@ -23,7 +23,8 @@ from ..errors import ConvergenceError
 from ..methods.base import implements
 
 __all__ = ["NewtonResult", "newton", "tangent", "bordered_lu", "one_update_error",
-           "jacobian_error", "Stopping", "relative_step", "is_sparse", "FAIL_CONTRACTION",
+           "jacobian_error", "round_off_step", "Stopping", "relative_step", "is_sparse",
+           "FAIL_CONTRACTION",
            "CONTRACTION_BOUND", "PREDICTED_FRACTION"]
 
 #: a corrector whose update is not at least this factor smaller than the previous one is
@@ -32,7 +33,8 @@ FAIL_CONTRACTION = 0.5
 #: relative update at which an iteration that stops contracting has reached the round-off
 #: floor of the discrete equations rather than left its basin: thin shells (h0/R0 <= 1e-3)
 #: stall at updates of ~1e-9 (the inner constitutive root is itself accepted at its floor,
-#: 1e-9). Such an iterate is converged to about that update (``NewtonResult.p_noise``).
+#: 1e-9). Such an iterate is converged to about that update (``NewtonResult.p_noise``). A
+#: system may state a higher floor of its own (:func:`round_off_step`: a thinner shell's).
 ROUND_OFF_STEP = 1e-8
 #: a predicted next update counts as converged at this fraction of the tolerance (the
 #: prediction C step^2 is good to a factor of a few, not to digits)
@@ -45,6 +47,22 @@ class StatesJacobianError(Protocol):
     systems: that of their BVP's derivatives, round-off for a shell problem)."""
 
     jacobian_error: float
+
+
+@runtime_checkable
+class StatesRoundOff(Protocol):
+    """A discrete system that states the relative update at which its Newton iterations
+    reach the round-off floor of its equations (a thin shell's, whose forces enter scaled
+    by 12/h^2)."""
+
+    round_off_step: float
+
+
+def round_off_step(system) -> float:
+    """The floor of ``system``'s Newton updates: its ``round_off_step`` where it states
+    one, at least ``ROUND_OFF_STEP``."""
+    own = float(system.round_off_step) if implements(system, StatesRoundOff) else 0.0
+    return max(ROUND_OFF_STEP, own)
 
 
 def jacobian_error(system) -> float:
@@ -76,7 +94,7 @@ class Stopping:
       with ``one_update``, the first update from a start next to the solution leaves at most
       ``PREDICTED_FRACTION * tol`` (:func:`one_update_error` with ``jacobian_error``);
     * ``"floor"``: with ``floor``, two updates in a row that do not contract (by
-      ``FAIL_CONTRACTION``) below ``ROUND_OFF_STEP``: the round-off floor of the discrete
+      ``FAIL_CONTRACTION``) below ``floor_step``: the round-off floor of the discrete
       equations, converged to about that update;
     * ``"stalled"``: with ``fail_fast``, an update that does not contract: outside the
       basin (the continuation retries with a shorter step);
@@ -91,11 +109,11 @@ class Stopping:
     def __init__(self, tol: float, *, min_iterations: int = 1, predict: bool = False,
                  predicted_fraction: float = 1.0, one_update: bool = False,
                  jacobian_error: float = math.inf, fail_fast: bool = False,
-                 floor: bool = True):
+                 floor: bool = True, floor_step: float = ROUND_OFF_STEP):
         self.tol, self.min_iterations = tol, min_iterations
         self.predict, self.predicted_fraction = predict, predicted_fraction
         self.one_update, self.jacobian_error = one_update, jacobian_error
-        self.fail_fast, self.floor = fail_fast, floor
+        self.fail_fast, self.floor, self.floor_step = fail_fast, floor, floor_step
         self.steps: list[float] = []
         self.left = math.inf
         self._floor_hits = 0
@@ -116,7 +134,7 @@ class Stopping:
         if (step <= self.tol or predicted) and it >= self.min_iterations:
             return "converged"
         stalled = it >= 2 and step > FAIL_CONTRACTION * steps[-2]
-        if self.floor and stalled and step <= ROUND_OFF_STEP:
+        if self.floor and stalled and step <= self.floor_step:
             # a tiny update that does not contract once can be a start's inexact step (the
             # next one undoes it, the one after converges), so only two stalls in a row are
             # the round-off floor
@@ -240,7 +258,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     Converged when the update is below ``tol`` relative to the unknowns (with ``predict``,
     also when the next one, C update^2 with C from the last two updates while C is at most
     CONTRACTION_BOUND, is: the evaluation that would only confirm it is saved), or when it stalls
-    twice in a row below ``ROUND_OFF_STEP`` (the round-off floor: ``p_noise`` is then the
+    twice in a row below the system's floor (:func:`round_off_step`; ``p_noise`` is then the
     last update of p), after at least ``min_iterations`` iterations (2: the point is then
     the result of a step taken with the Jacobian of a point already within tol, not of a
     start's Jacobian alone, whose error may be unknown). ``one_update``: U starts next to
@@ -259,7 +277,7 @@ def newton(system, U, p, alpha, beta, c, *, row=None, tol=1e-10, maxiter=15,
     m = math.nan
     rule = Stopping(tol, min_iterations=min_iterations, predict=predict,
                     one_update=one_update, jacobian_error=jacobian_error(system),
-                    fail_fast=fail_fast)
+                    fail_fast=fail_fast, floor_step=round_off_step(system))
     for it in range(1, maxiter + 1):
         try:
             R, J, Rp = system.evaluate(U, p)
