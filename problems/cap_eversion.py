@@ -74,7 +74,7 @@ def _fold_options(options, tol, default):
 def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_max=None,
            n_folds=1, w_max=None, method="spectral", tol: float | None = None,
            options: ContinuationOptions | None = None, progress=None,
-           energies=True) -> shellbvp.Branch:
+           energies=True, estimate_errors=True) -> shellbvp.Branch:
     """Continuation diagram kappa(w) from the undeformed cap (a :class:`shellbvp.Branch`).
 
     Stops after ``n_folds`` folds (default: the snap; None: no limit), at ``kappa_max``
@@ -82,23 +82,26 @@ def branch(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5, kappa_m
     2 (1 - cos Theta)). Folds are refined until kappa changes by at most ``tol`` (default
     ``options.fold_tol`` where options are given, else ``TOL``; ValueError if both set it,
     differently). ``method``: ``Chebyshev(...)`` (default ``"spectral"``), ``Shooting(...)``
-    or ``Collocation(...)``.
+    or ``Collocation(...)``. Every point carries its error estimate (``Branch.p_error``,
+    ``w_error``) unless ``estimate_errors`` is False (:func:`shellbvp.follow`).
     """
     sc = scene(theta, h, lam, model=model, material=material, nu=nu)
     return _branch_of(sc, kappa_max=kappa_max, n_folds=n_folds, w_max=w_max, method=method,
                       options=_fold_options(options, tol, ContinuationOptions()),
-                      progress=progress, energies=energies)
+                      progress=progress, energies=energies, estimate_errors=estimate_errors)
 
 
 def _branch_of(sc, *, kappa_max, n_folds, w_max, method, options, progress,
-               energies) -> shellbvp.Branch:
-    """:func:`branch` of the scene ``sc`` (built and checked once by the caller)."""
+               energies, estimate_errors: bool = True) -> shellbvp.Branch:
+    """:func:`branch` of the scene ``sc`` (built and checked once by the caller);
+    ``estimate_errors=False`` for a branch that only brackets its folds."""
     H = sc.geometry.rise
     w_max = 2.4 * H if w_max is None else float(w_max)
     kmax = math.inf if kappa_max is None else float(kappa_max)
     return shellbvp.follow(sc, method=method, p0=0.0, p_stop=(-math.inf, kmax),
                            n_folds=n_folds, w_stop=(-math.inf, w_max), options=options,
-                           progress=progress, energies=energies)
+                           progress=progress, energies=energies,
+                           estimate_errors=estimate_errors)
 
 
 def _theta_gradient(fold) -> dict:
@@ -146,7 +149,7 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
         # from tol where rtol is left free)
         method = replace(method, bracket_rtol=max(method.rtol or 0.0, BRACKET_RTOL))
     b = _branch_of(sc, kappa_max=None, n_folds=1, w_max=None, method=method,
-                   options=options, progress=None, energies=False)
+                   options=options, progress=None, energies=False, estimate_errors=False)
     T = theta / math.sqrt(h)
     if not b.folds and b.stop:
         # the branch ended before full eversion for a reason of its own: "no snap" would be
@@ -177,7 +180,8 @@ def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0
                                       and kappa_max > 0):
         raise ValueError(f"kappa_max must be a positive curvature (1/R0), got {kappa_max!r}")
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               tol=min(tol, TOL), energies=False, kappa_max=kappa_max, w_max=w_max)
+               tol=min(tol, TOL), energies=False, kappa_max=kappa_max, w_max=w_max,
+               estimate_errors=False)
     found = shellbvp.first_instability(b, tol=tol, degree=degree)
     if found.kind == "none" and not found.stop:      # the continuation reached a bound
         if kappa_max is not None and b.p[-1] >= kappa_max:

@@ -5,15 +5,18 @@ stability and post-buckling, and scene files.
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
     shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv [--jobs 2] [--resume]
     shellbvp stability --theta 0.5236 --h 0.01 --lam 1 [--json]
-    shellbvp follow FILE [--csv OUT.csv] [--json]
+    shellbvp follow FILE [--csv OUT.csv] [--json] [--at P1,P2,...]
     shellbvp stability FILE [--json]
     shellbvp postbuckling --theta 0.5236 --h 0.01 --lam 1 [--K 2] [--csv lobed.csv]
     shellbvp postbuckling FILE [--n-folds 1] [--p-min P] [--p-max P] [--csv OUT.csv]
 
 FILE is a scene file (TOML, :mod:`shellbvp.scenefile`), or the name of an example installed
 with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.examples`).
-``--json`` prints one JSON object instead of the text: ``follow`` ``{"folds": [{"p",
-"error_estimate", <observables>}], "last": {"p", <observables>}, "stop"}``, ``stability``
+``--json`` prints one JSON object instead of the text: ``follow`` ``{"folds": [...],
+"at": [...], "last": {...}, "stop", "complete", "missing"}``, each point ``{"p", "p_error",
+<observable>, <observable>_error}`` (every value with its error estimate; ``at``: the states
+at the values of ``--at`` or the file's ``[parameter] at``; ``complete`` false and exit
+status 1 where the continuation stalled, the points before it reported), ``stability``
 ``{"kind", "n", "p", "error_estimate"}`` (and ``"stop"`` for none), in the file's units
 (null for what is undefined).
 
@@ -225,6 +228,9 @@ def parser():
                                                 "example's name")
     f.add_argument("--csv", default=None, help="write every point and fold to this CSV")
     f.add_argument("--json", action="store_true", help="print one JSON object")
+    f.add_argument("--at", type=_number_list, default=None, metavar="P1,P2,...",
+                   help="report the states at these parameter values exactly (in its "
+                        "units, inside the file's range; replaces its [parameter] at)")
     return p
 
 
@@ -253,32 +259,61 @@ def _scene_file(p, a, argv):
         p.exit(2, f"shellbvp: error: {a.file}: {exc}\n")
 
 
-def _follow_file(sf, a) -> None:
-    run = sf.follow()
+def _number_list(text):
+    """``--at 1,2.5,3``: the numbers, or a usage error naming the option."""
+    try:
+        values = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got "
+                                         f"{text!r}") from None
+    if not values or not all(math.isfinite(v) for v in values):
+        raise argparse.ArgumentTypeError(f"expected finite numbers separated by commas, got "
+                                         f"{text!r}")
+    return values
+
+
+def _follow_file(sf, a) -> int:
+    """``follow FILE``: every point that converged is printed and written, also where the
+    continuation stalls (then with the reason, and exit status 1)."""
+    run = sf.follow(at=a.at)
     if a.csv:
         run.to_csv(a.csv)
     if a.json:
         print(json.dumps(run.summary()))
-        return
-    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
-    print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}{unit}")
-    for k, fold in enumerate(run.folds, 1):
-        print(f"fold {k}: " + _values(fold, sf))
-    print("last: " + _values(run.last, sf))
-    print(f"{len(run.branch.points)} points, {len(run.folds)} fold(s); stop: {run.stop}"
-          + (f" -> {a.csv}" if a.csv else ""))
+    else:
+        unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+        print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to "
+              f"{sf.stop:g}{unit}")
+        for k, fold in enumerate(run.folds, 1):
+            print(f"fold {k}: " + _values(fold, sf))
+        for state in run.at:
+            print("at: " + _values(state, sf))
+        for v in run.missing:
+            print(f"at: {sf.parameter} = {v:.10g}{unit} not reached")
+        print("last: " + _values(run.last, sf))
+        if run.error_note:
+            print(f"error estimates: {run.error_note}")
+        print(f"{len(run.branch.points)} points, {len(run.folds)} fold(s); stop: {run.stop}"
+              + (f" -> {a.csv}" if a.csv else ""))
+    if not run.complete:
+        print(f"shellbvp: the continuation stalled: {run.stop}", file=sys.stderr)
+        return 1
+    return 0
 
 
 def _values(d: dict, sf) -> str:
-    """A row of a scene file's results: the parameter (with its error estimate) and the
-    observables, each with its unit."""
+    """A row of a scene file's results: the parameter and the observables, each with its
+    error estimate and unit."""
     unit = sf.units.parameter_label
-    head = f"{sf.parameter} = {d['p']:.10g}"
-    if "error_estimate" in d:
-        head += f" +- {d['error_estimate']:.1e}"
-    head += f" {unit}" if unit else ""
-    units = {ob.name: ob.unit for ob in sf.observables}
-    return ", ".join([head] + [f"{n} = {d[n]:.8g} {units[n]}" for n in units])
+    units = {"p": unit, **{ob.name: ob.unit for ob in sf.observables}}
+
+    def one(name, label):
+        err = d.get(f"{name}_error", math.nan)
+        text = f"{label} = {d[name]:.10g}" + (f" +- {err:.1e}" if math.isfinite(err)
+                                              else " +- nan")
+        return text + (f" {units[name]}" if units[name] else "")
+
+    return ", ".join([one("p", sf.parameter)] + [one(n, n) for n in units if n != "p"])
 
 
 def _stability_file(sf, a) -> None:
@@ -452,8 +487,8 @@ def main(argv=None) -> int:
                       "runs over its own range (from, to)\n")
         sf = _scene_file(p, a, argv)
         try:
-            {"follow": _follow_file, "stability": _stability_file,
-             "postbuckling": _postbuckling_file}[a.command](sf, a)
+            return {"follow": _follow_file, "stability": _stability_file,
+                    "postbuckling": _postbuckling_file}[a.command](sf, a) or 0
         except _BadOption as exc:
             p.exit(2, f"shellbvp: error: {exc}\n")
         except (ValueError, NotImplementedError) as exc:

@@ -94,12 +94,13 @@ def elliptic_point(system, pt) -> str:
     try:
         L, s = legendre_along(system, pt.U, pt.p)
     except ConvergenceError as exc:
-        return f"the state at {system.bvp.scene.parameter} = {pt.p:.6g} cannot be evaluated: {exc}"
+        return f"the state at {system.bvp.scene.quote(pt.p)} cannot be evaluated: {exc}"
     if L > 0:
         return ""
-    return (f"the reduced energy loses ellipticity before {system.bvp.scene.parameter} = "
-            f"{pt.p:.6g}: its Legendre condition (Hessian of W in the stretch lam1 and the "
-            f"rotation rate lam1 k1) is {L:.3g} < 0 at s = {s:.4g} there; past this the "
+    sc = system.bvp.scene
+    return (f"the reduced energy loses ellipticity before {sc.quote(pt.p)}: its Legendre "
+            f"condition (Hessian of W in the stretch lam1 and the rotation rate lam1 k1) is "
+            f"{L:.3g} < 0 at {sc.quote_s(s)} there; past this the "
             f"equations admit solutions that depend on the discretisation (not physics)")
 
 
@@ -123,17 +124,17 @@ def stall_reason(system, pts, message) -> str:
         return message
     p1, p2 = pts[-2].p, pts[-1].p
     p_star = p2 - L2 * (p2 - p1) / (L2 - L1) if L2 != L1 else p2
-    name = system.bvp.scene.parameter
+    sc = system.bvp.scene
     if system.bvp.anisotropic_apex and s2 < 2 * system.bvp.eps:
-        return (f"the reduced energy loses ellipticity at the pole offset s = {s2:.4g} as "
-                f"{name} -> ~{p_star:.6g} (Legendre condition {L0:.3g} -> {L2:.3g}): the "
+        return (f"the reduced energy loses ellipticity at the pole offset {sc.quote_s(s2)} as "
+                f"{sc.quote(p_star)} (Legendre condition {L0:.3g} -> {L2:.3g}): the "
                 f"target curvature is anisotropic at the apex, where the curvatures diverge "
                 f"like log s, so this stop moves with the pole offset eps; a limit of the "
                 f"formulation at the apex, not a property of the shell at finite s")
-    return (f"the reduced energy loses ellipticity at s = {s2:.4g}: its Legendre condition "
-            f"(Hessian of W in the stretch lam1 and the rotation rate lam1 k1) falls from "
-            f"{L0:.3g} at the start to {L2:.3g} at {name} = {p2:.6g}, extrapolating to zero "
-            f"at {name} ~ {p_star:.6g}; the first-order system has no solution past it and "
+    return (f"the reduced energy loses ellipticity at {sc.quote_s(s2)}: its Legendre "
+            f"condition (Hessian of W in the stretch lam1 and the rotation rate lam1 k1) falls "
+            f"from {L0:.3g} at the start to {L2:.3g} at {sc.quote(p2)}, extrapolating to zero "
+            f"at {sc.quote(p_star)}; the first-order system has no solution past it and "
             f"the reduced model no smooth one (solver: {message.splitlines()[0][:160]})")
 
 
@@ -150,8 +151,8 @@ def _surface_stall(system, pts, message) -> str:
     except ConvergenceError:
         return message
     s_mode = float(sv.s[int(np.argmax(np.abs(sv.theta_modes[0])))])
-    name = system.scene.parameter
-    return (f"{message.splitlines()[0][:160]}; at the last point ({name} = {last.p:.6g}) the "
+    sc = system.scene
+    return (f"{message.splitlines()[0][:160]}; at the last point ({sc.quote(last.p)}) the "
             f"discrete energy's Hessian has its smallest eigenvalue {sv.eigenvalues[0]:.3g} "
-            f"(mode largest at s = {s_mode:.4g}) and the Legendre condition its minimum "
-            f"{L:.3g} at s = {s_L:.4g}")
+            f"(mode largest at {sc.quote_s(s_mode)}) and the Legendre condition its minimum "
+            f"{L:.3g} at {sc.quote_s(s_L)}")

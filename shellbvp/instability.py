@@ -112,7 +112,7 @@ def _scan_point(eq, degree, n_scan):
     while not _rising(low, n):
         if n >= N_MAX:
             raise ConvergenceError(f"the lowest eigenvalue does not rise with n up to n = "
-                                   f"{N_MAX} at {eq.scene.parameter} = {eq.p:.6g}: no cutoff")
+                                   f"{N_MAX} at {eq.scene.quote(eq.p)}: no cutoff")
         extra = modes(eq, range(n + 1, min(n + 10, N_MAX) + 1), count=1, degree=degree)
         low.update(_lowest(extra.spectra))
         n = max(low)

@@ -254,7 +254,7 @@ def _axisymmetric(f: Fourier2D, p: float, y0=None, tol: float = 1e-13, maxiter: 
         y[b] -= d
         if np.linalg.norm(d) <= tol * (1 + np.linalg.norm(y)):
             return y, Hm
-    raise ConvergenceError(f"the axisymmetric state at {f.eq.scene.parameter} = {p:.10g} "
+    raise ConvergenceError(f"the axisymmetric state at {f.eq.scene.quote(p, 10)} "
                            f"did not converge in the 2D discretisation")
 
 

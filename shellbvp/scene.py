@@ -47,8 +47,8 @@ from .fields import ReferencePoint, point_fields
 from .geometry import Meridian, spherical_cap
 from .models import MATERIAL_PARAMETER, MATERIALS, MODELS, material_parameter
 
-__all__ = ["Scene", "End", "Ring", "ReferencePoint", "END_KINDS", "uniform_curvature", "lam_max",
-           "cap"]
+__all__ = ["Scene", "End", "Ring", "Display", "ReferencePoint", "END_KINDS",
+           "uniform_curvature", "lam_max", "cap"]
 
 #: smallest opening angle of a cap (:func:`cap`): the rise 1 - cos Theta ~ Theta^2/2 keeps
 #: ~10 digits above it
@@ -280,6 +280,20 @@ class Ring:
 RING_LOADS = ("axial", "radial")
 
 
+@dataclass(frozen=True)
+class Display:
+    """How the engine's numbers read in a user's own units (a scene file's, whose lengths
+    and parameter the engine scales): the parameter is ``parameter_scale`` p, named
+    ``parameter`` in ``parameter_unit``, an arclength ``length_scale`` s in ``length_unit``.
+    The default is the engine's own units (the scene's parameter name)."""
+
+    parameter: str | None = None
+    parameter_scale: float = 1.0
+    parameter_unit: str = ""
+    length_scale: float = 1.0
+    length_unit: str = ""
+
+
 def _as_end(value, which) -> End:
     if isinstance(value, End):
         return value
@@ -334,6 +348,8 @@ class Scene:
             an end free to make it; :attr:`monitor_terms`).
         rings: :class:`Ring` loads on circles of the meridian (dead forces), at distinct s
             inside (0, L); kept sorted by s.
+        display: how messages quote the parameter and arclengths (:class:`Display`; a
+            scene file's own units), the engine's units by default.
     """
 
     geometry: Meridian
@@ -354,6 +370,21 @@ class Scene:
     field_parameters: tuple = ()
     monitor: str | None = None
     rings: tuple = ()
+    display: Display = Display()
+
+    def quote(self, p, digits: int = 6) -> str:
+        """The parameter value p as a message says it: ``"kappa = 4.2"`` (in the user's
+        units and name where :attr:`display` gives them)."""
+        d = self.display
+        unit = f" {d.parameter_unit}" if d.parameter_unit else ""
+        return f"{d.parameter or self.parameter} = {d.parameter_scale * float(p):.{digits}g}{unit}"
+
+    def quote_s(self, s, digits: int = 4) -> str:
+        """An arclength s as a message says it: ``"s = 1.03"`` (in the user's length unit
+        where :attr:`display` gives it)."""
+        d = self.display
+        unit = f" {d.length_unit}" if d.length_unit else ""
+        return f"s = {d.length_scale * float(s):.{digits}g}{unit}"
 
     @property
     def material_parameter(self) -> float:
@@ -426,6 +457,9 @@ class Scene:
                              f"{self.field_parameters!r}")
         object.__setattr__(self, "field_parameters", tuple(float(x) for x in c))
         self._check_rings(geo)
+        if not isinstance(self.display, Display):
+            raise ValueError(f"display must be a shellbvp.scene.Display, got "
+                             f"{type(self.display).__name__}")
         if self.monitor is not None:
             self.monitor_terms            # parses and checks the monitor
 
@@ -649,12 +683,12 @@ class Scene:
         for n, v in zip(FIELDS, F):
             if not np.all(np.isfinite(v)):
                 raise ValueError(f"field {n} must be finite (piece {piece}, "
-                                 f"{self.parameter} = {p!r})")
+                                 f"{self.quote(p)})")
         if np.any(F[0] <= 0) or np.any(F[1] <= 0):
             raise ValueError("stimulus fields g1, g2 must be > 0")
         if len(F) > 6 and np.any(F[6] <= 0) and interior:
             raise ValueError(f"the thickness profile must be > 0 inside the shell (piece "
-                             f"{piece}, {self.parameter} = {p!r})")
+                             f"{piece}, {self.quote(p)})")
         if len(F) > 6 and np.any(F[6] <= 0):
             raise ValueError(f"the thickness profile must be > 0 along the meridian (piece "
                              f"{piece}): the first-order form divides by the bending "

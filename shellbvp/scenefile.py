@@ -67,7 +67,7 @@ import numpy as np
 from .expressions import CONSTANTS, FUNCTIONS, Expression, parse
 from .geometry import Cone, Cylinder, Ellipse, Meridian, Plate, Points, Sphere, Torus
 from .models import MODELS
-from .scene import END_KINDS, H_MIN, LOADS_OF, End, Ring, Scene, curvature_radius
+from .scene import END_KINDS, H_MIN, LOADS_OF, Display, End, Ring, Scene, curvature_radius
 
 __all__ = ["load_scene", "SceneFile", "SceneBranch", "SceneInstability", "Observable",
            "Units", "PointFunction", "LoadFunction", "example", "examples", "METHOD_NAMES"]
@@ -83,8 +83,9 @@ POINT_SYMBOLS = ("s", "r", "z", "k1_ref", "k2_ref")
 #: the keys of the file's top level
 TOP_KEYS = ("title", "units", "geometry", "material", "parameter", "solver", "stimulus",
             "loads", "ends", "observe")
-#: the column and JSON names an observable may not take
-RESERVED = ("p", "error_estimate", "is_fold", "energy")
+#: the column and JSON names an observable may not take (nor any ending in ``_error``, the
+#: error estimate columns)
+RESERVED = ("p", "error_estimate", "is_fold", "is_requested", "energy")
 _MISSING = object()
 
 
@@ -523,7 +524,8 @@ class SceneFile:
         scale: the engine's unit of the parameter: the power of ten nearest |to - from|,
             with the sign of to - from (t increases from ``from`` to ``to``).
         folds: stop after this many folds (None: at the end of the range).
-        method: the method's name (:data:`METHOD_NAMES`).
+        method: the method's name (:data:`METHOD_NAMES`), or its object where
+            ``[solver] degree`` sets its degree per element.
         tol: the fold tolerance, in the parameter's units.
         observables: the named columns (:class:`Observable`).
         units: :class:`Units`.
@@ -531,6 +533,8 @@ class SceneFile:
             continuation's steps are at most 1/points of the branch's arclength, measured
             by a first pass with the step control's own steps (which it costs); None: those
             steps alone (long where the branch is straight).
+        at: parameter values (its own units) at which the states are reported exactly
+            (``[parameter] at``), in order from ``from``.
     """
 
     source: str
@@ -541,11 +545,12 @@ class SceneFile:
     stop: float
     scale: float
     folds: int | None
-    method: str
+    method: object
     tol: float
     observables: tuple = field(repr=False)
     units: Units = field(repr=False)
     points: int | None = None
+    at: tuple = ()
 
     @property
     def t_range(self) -> tuple[float, float]:
@@ -556,23 +561,32 @@ class SceneFile:
         """The file's parameter at the engine's t: scale t."""
         return self.scale * np.asarray(t, dtype=float)
 
-    def follow(self, progress: Callable | None = None) -> "SceneBranch":
-        """Continue the scene from ``from`` to ``to`` (:func:`shellbvp.follow`), stopping
-        after ``folds`` folds where the file says so, and observe every point and fold.
+    def follow(self, progress: Callable | None = None, *, at=None) -> "SceneBranch":
+        """Continue the scene from ``from`` to ``to`` (:func:`shellbvp.follow`; the last
+        point exactly at ``to`` where the branch gets there), stopping after ``folds``
+        folds where the file says so, and observe every point and fold, each value with its
+        error estimate (the point on the method's next finer discretisation; a fold's from
+        its ladder).
 
         Arguments:
             progress: called as ``progress(p)`` after every point, p in the parameter's
                 units.
+            at: parameter values (its own units, in [from, to]) at which the states are
+                wanted exactly, instead of the file's ``[parameter] at``.
 
         Returns:
-            :class:`SceneBranch`.
+            :class:`SceneBranch`; where the continuation stalls, the points that converged
+            before it, with the reason (``SceneBranch.complete`` False).
 
         Raises:
-            ConvergenceError: the continuation failed (with the engine's diagnosis).
+            ValueError: an ``at`` value outside [from, to].
+            ConvergenceError: the continuation failed at its start (with the engine's
+                diagnosis).
         """
-        return self._follow(self.folds, progress)
+        at = self.at if at is None else check_at("at", at, self.start, self.stop)
+        return self._follow(self.folds, progress, at=at)
 
-    def _follow(self, folds, progress=None) -> "SceneBranch":
+    def _follow(self, folds, progress=None, *, at=(), estimate_errors=True) -> "SceneBranch":
         from .continuation.options import ContinuationOptions
         from .driver import follow as follow_scene
 
@@ -580,24 +594,23 @@ class SceneFile:
         report = None if progress is None else \
             (lambda pt: progress(float(self.parameter_value(pt.p))))
 
-        def run(options, report):
+        def run(options, report, at=(), estimate_errors=False):
             return follow_scene(self.scene, method=self.method, p0=self.t_range[0],
                                 p_stop=self.t_range, n_folds=folds, options=options,
-                                progress=report)
+                                progress=report, on_stall="stop",
+                                estimate_errors=estimate_errors,
+                                at=tuple(v / self.scale for v in at))
 
         if self.points is not None:
-            # the branch's length in the continuation's norm (U by its RMS, and p) from a
-            # first pass with the step control's own steps, then steps of at most 1/points
-            # of it, less a tenth (the first steps start shorter, and chords are shorter
-            # than the arcs they span)
-            pts = run(options, None).points
-            step = sum(math.hypot(float(np.sqrt(np.mean((b.U - a.U) ** 2))), b.p - a.p)
-                       for a, b in zip(pts[:-1], pts[1:])) / (1.1 * self.points)
+            # the branch's length in the continuation's norm from a first pass with the step
+            # control's own steps, then steps of at most 1/points of it, less a tenth (the
+            # first steps start shorter, and chords are shorter than the arcs they span)
+            step = run(options, None).points[-1].path / (1.1 * self.points)
             options = replace(options, ds_max=step, ds=min(options.ds, step),
                               ds_min=min(options.ds_min, step / 100),
                               max_steps=max(options.max_steps, 4 * self.points))
-        branch = run(options, report)
-        return SceneBranch.of(self, branch, folds)
+        branch = run(options, report, at, estimate_errors)
+        return SceneBranch.of(self, branch, folds, at)
 
     def first_instability(self, *, tol: float = 1e-6) -> "SceneInstability":
         """The first instability along the branch from ``from`` (to its first fold, or to
@@ -609,7 +622,7 @@ class SceneFile:
         """
         from .instability import first_instability
 
-        branch = self._follow(1).branch
+        branch = self._follow(1, estimate_errors=False).branch
         found = first_instability(branch, tol=tol)
         none = found.kind == "none"
         return SceneInstability(
@@ -680,29 +693,52 @@ class SceneFile:
 
 
 class _Row(NamedTuple):
-    """A row of a :class:`SceneBranch`'s table, before it is laid out in columns."""
+    """A row of a :class:`SceneBranch`'s table, before it is laid out in columns: the
+    parameter, every observable and the energy, each with its error estimate (nan where
+    there is none)."""
 
     arclength: float
     p: float
+    p_error: float
     observed: dict
+    errors: dict
     energy: float
+    energy_error: float
     is_fold: int
-    error_estimate: float
+    is_requested: int = 0
+
+    def values(self) -> dict:
+        """{"p", "p_error", <observable>, <observable>_error, ...}."""
+        out = {"p": self.p, "p_error": self.p_error}
+        for name, v in self.observed.items():
+            out[name] = v
+            out[f"{name}_error"] = self.errors[name]
+        return out
 
 
 @dataclass(frozen=True)
 class SceneBranch:
-    """A scene file's branch in the file's units.
+    """A scene file's branch in the file's units, every value with its error estimate.
 
     Attributes:
         scene_file: the :class:`SceneFile`.
         branch: the engine's :class:`shellbvp.Branch` (parameter t, lengths / L).
-        columns: the table's column names, units in brackets.
+        columns: the table's column names, units in brackets; each value's error estimate
+            in the column after it (``<name>_error``).
         rows: the table: every point of the branch and every fold in order of arclength
-            (parameter, observables, energy, is_fold, the fold's error estimate).
-        folds: per fold, {"p", "error_estimate", <observables>} in the file's units.
-        last: the last point, {"p", <observables>}.
+            (parameter, observables, energy, each followed by its error; is_fold,
+            is_requested).
+        folds: per fold, {"p", "p_error", <observable>, <observable>_error} in the file's
+            units.
+        at: the same for every state asked for at a parameter value (``at``), in order
+            along the branch (a value crossed twice, e.g. on either side of a fold pair,
+            twice).
+        last: the same for the last point.
         stop: why the branch ended.
+        complete: False where the continuation stalled (the rows are the points that
+            converged before it; ``stop`` says where and why).
+        missing: the ``at`` values the branch did not reach.
+        error_note: why some error estimates are nan ("" where none is).
     """
 
     scene_file: SceneFile = field(repr=False)
@@ -712,34 +748,72 @@ class SceneBranch:
     folds: tuple
     last: dict
     stop: str
+    at: tuple = ()
+    complete: bool = True
+    missing: tuple = ()
+    error_note: str = ""
 
     @classmethod
-    def of(cls, scene_file: SceneFile, branch, n_folds) -> "SceneBranch":
-        """The table of ``branch``, a branch of ``scene_file``'s scene."""
+    def of(cls, scene_file: SceneFile, branch, n_folds, at=()) -> "SceneBranch":
+        """The table of ``branch``, a branch of ``scene_file``'s scene (``at``: the values
+        asked for, in the parameter's units)."""
+        from .continuation.estimates import change
+
         sf, u = scene_file, scene_file.units
-        points = [_Row(float(branch.arclength[i]), float(sf.parameter_value(pt.p)),
-                       sf.observe(branch.system, pt.U, pt.p),
-                       float(branch.energy[i]) * u.energy, 0, math.nan)
-                  for i, pt in enumerate(branch.points)]
+        unit_p = abs(sf.scale)
+
+        # what each observable is computed from: coordinates of the shell's size (L) for a
+        # displacement, angles of order one for a rotation, the force itself for a force
+        scale = {ob.name: {"rad": math.pi, u.length_label: u.length}.get(ob.unit, 0.0)
+                 for ob in sf.observables}
+
+        def errors_of(observed, other):
+            return {k: (change(v, other[k], scale[k], branch.system.rung_ratio)
+                        if other is not None else math.nan) for k, v in observed.items()}
+
+        refined = branch.refined
+        requested = {i for _, i in branch.requested}
+        points = []
+        for i, pt in enumerate(branch.points):
+            observed = sf.observe(branch.system, pt.U, pt.p)
+            fine = None if refined is None else refined.points[i]
+            other = None if fine is None else sf.observe(refined.system, fine[0], fine[1])
+            points.append(_Row(float(branch.arclength[i]), float(sf.parameter_value(pt.p)),
+                               float(branch.p_error[i]) * unit_p, observed,
+                               errors_of(observed, other), float(branch.energy[i]) * u.energy,
+                               float(branch.energy_error[i]) * u.energy, 0,
+                               int(i in requested)))
         last = len(points) - 1
         # a fold's row sits between the points that bracket it, as in Branch.rows
-        folds = [_Row(0.5 * float(branch.arclength[f.index]
-                                  + branch.arclength[min(f.index + 1, last)]),
-                      float(sf.parameter_value(f.p)), sf.observe(f.system, f.U, f.p),
-                      math.nan, 1, float(f.error_estimate) * abs(sf.scale))
-                 for f in branch.folds]
+        folds = []
+        for f in branch.folds:
+            observed = sf.observe(f.system, f.U, f.p)
+            prev = f.previous
+            other = None if prev is None else sf.observe(prev.system, prev.U, prev.p)
+            folds.append(_Row(0.5 * float(branch.arclength[f.index]
+                                          + branch.arclength[min(f.index + 1, last)]),
+                              float(sf.parameter_value(f.p)),
+                              float(f.error_estimate) * unit_p, observed,
+                              errors_of(observed, other), math.nan, math.nan, 1))
         label = f"[{u.parameter_label}]" if u.parameter_label else ""
-        columns = (f"{sf.parameter}{label}", *[ob.column for ob in sf.observables],
-                   f"energy[{u.modulus_label}*{u.length_label}^3]", "is_fold",
-                   f"error_estimate{label}")
-        rows = tuple((r.p, *[r.observed[ob.name] for ob in sf.observables], r.energy,
-                      r.is_fold, r.error_estimate)
+        energy = f"[{u.modulus_label}*{u.length_label}^3]"
+        columns = (f"{sf.parameter}{label}", f"{sf.parameter}_error{label}",
+                   *[c for ob in sf.observables
+                     for c in (ob.column, f"{ob.name}_error[{ob.unit}]")],
+                   f"energy{energy}", f"energy_error{energy}", "is_fold", "is_requested")
+        rows = tuple((r.p, r.p_error, *[x for ob in sf.observables
+                                        for x in (r.observed[ob.name], r.errors[ob.name])],
+                      r.energy, r.energy_error, r.is_fold, r.is_requested)
                      for r in sorted(points + folds, key=lambda r: (r.arclength, r.is_fold)))
+        reached = [float(sf.parameter_value(v)) for v, _ in branch.requested]
+        missing = tuple(v for v in at if not any(math.isclose(v, x, rel_tol=1e-12,
+                                                              abs_tol=1e-300)
+                                                 for x in reached))
         return cls(scene_file, branch, columns, rows,
-                   tuple({"p": r.p, "error_estimate": r.error_estimate, **r.observed}
-                         for r in folds),
-                   {"p": points[-1].p, **points[-1].observed},
-                   _stop_reason(sf, branch, n_folds))
+                   tuple(r.values() for r in folds), points[-1].values(),
+                   _stop_reason(sf, branch, n_folds),
+                   tuple(points[i].values() for _, i in branch.requested),
+                   not branch.stop, missing, branch.error_note)
 
     def to_csv(self, path) -> None:
         """Write the table to ``path`` atomically (:func:`shellbvp.cache.
@@ -750,15 +824,20 @@ class SceneBranch:
         wr = csv.writer(buf, lineterminator="\n")
         wr.writerow(self.columns)
         for row in self.rows:
-            wr.writerow([int(v) if name == "is_fold" else repr(float(v))
+            wr.writerow([int(v) if name in ("is_fold", "is_requested") else repr(float(v))
                          for name, v in zip(self.columns, row)])
         atomic_write_text(path, buf.getvalue())
 
     def summary(self) -> dict:
-        """The command line's JSON object: ``{"folds": [{"p", "error_estimate",
-        <observables>}], "last": {"p", <observables>}, "stop": ...}`` (nan as null)."""
+        """The command line's JSON object: ``{"folds": [...], "at": [...], "last": {...},
+        "stop": ..., "complete": ...}``, each point ``{"p", "p_error", <observable>,
+        <observable>_error}`` (nan as null), and ``"missing"``: the ``at`` values the
+        branch did not reach; ``"error_note"``: why some estimates are null."""
         return {"folds": [_json_values(f) for f in self.folds],
-                "last": _json_values(self.last), "stop": self.stop}
+                "at": [_json_values(a) for a in self.at],
+                "last": _json_values(self.last), "stop": self.stop,
+                "complete": self.complete, "missing": list(self.missing),
+                "error_note": self.error_note}
 
 
 @dataclass(frozen=True)
@@ -804,10 +883,10 @@ def _stop_reason(sf: SceneFile, branch, n_folds) -> str:
     if n_folds is not None and len(branch.folds) >= n_folds:
         return f"after {len(branch.folds)} fold(s)"
     t, (t_from, t_to) = float(branch.p[-1]), sf.t_range
-    if t > t_to:
+    if t >= t_to:
         return f"reached {sf.parameter} = {sf.stop:.10g} (to)"
-    if t < t_from:
-        return f"returned past {sf.parameter} = {sf.start:.10g} (from)"
+    if t <= t_from and branch.p.size > 1:
+        return f"returned to {sf.parameter} = {sf.start:.10g} (from)"
     return "ended inside the range"
 
 
@@ -860,7 +939,7 @@ def _read(data: dict, source: str) -> SceneFile:
     L = _meridian(entries, 1.0).size
     meridian = _meridian(entries, L)
 
-    parameter, start, stop, folds, p_label = _parameter(top)
+    parameter, start, stop, folds, p_label, at = _parameter(top)
     scale = math.copysign(10.0 ** round(math.log10(abs(stop - start))), stop - start)
     param = _Parameter(parameter, scale, (start / scale, stop / scale))
     mu, material = _material(top)
@@ -874,9 +953,13 @@ def _read(data: dict, source: str) -> SceneFile:
     method, tol, monitor, points = _solver(top, stop - start, scale)
     observables = _observables(top, units, meridian, parameter)
     try:
+        # the engine's parameter is t = p / scale, its lengths the file's / L; its messages
+        # quote both in the file's own units
+        display = Display(parameter, scale, p_label, L,
+                          "" if length_label == "length" else length_label)
         scene = Scene(geometry=meridian, h=h_user / L, ends=ends, thickness=thickness,
                       pressure=pressure, parameter=f"t_{parameter}", monitor=monitor,
-                      rings=rings, **material, **stimulus)
+                      rings=rings, display=display, **material, **stimulus)
     except ValueError as exc:
         raise ValueError(f"{_scene_key(str(exc))}: {_one_line(exc)}") from None
     if scene.pieces > 1:
@@ -886,7 +969,7 @@ def _read(data: dict, source: str) -> SceneFile:
                                   for name in ("fields", "through_thickness", "thickness")
                                   if isinstance(getattr(scene, name), PointFunction)})
     return SceneFile(source, title, scene, parameter, start, stop, scale, folds, method, tol,
-                     observables, units, points)
+                     observables, units, points, at)
 
 
 def _scene_key(message: str) -> str:
@@ -900,7 +983,7 @@ def _scene_key(message: str) -> str:
 
 
 def _parameter(top):
-    t = top.table("parameter", ("name", "from", "to", "folds", "unit"), required=True)
+    t = top.table("parameter", ("name", "from", "to", "folds", "unit", "at"), required=True)
     name = t.string("name", "p")
     taken = (*POINT_SYMBOLS, *CONSTANTS, *FUNCTIONS, "xp")
     if not name.isidentifier() or keyword.iskeyword(name) or name in taken:
@@ -919,7 +1002,22 @@ def _parameter(top):
     if label and not re.fullmatch(r"[\w/^*.+-]+", label):
         raise ValueError(f"parameter.unit: a unit's name in letters, digits and / ^ * . "
                          f"(no spaces or brackets), got {label!r}")
-    return name, start, stop, folds, label
+    at = check_at("parameter.at", t.numbers("at") if "at" in t else (), start, stop)
+    return name, start, stop, folds, label, at
+
+
+def check_at(key: str, values, start: float, stop: float) -> tuple:
+    """The parameter values at which states are asked for (``[parameter] at``, ``--at``):
+    finite, inside [from, to]; ValueError naming ``key`` else."""
+    lo, hi = min(start, stop), max(start, stop)
+    out = []
+    for v in values:
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                and lo <= v <= hi):
+            raise ValueError(f"{key}: each value must be a number in [{lo:g}, {hi:g}] "
+                             f"(from, to), got {v!r}")
+        out.append(float(v))
+    return tuple(sorted(set(out), key=lambda v: abs(v - start)))
 
 
 def _material(top):
@@ -937,8 +1035,9 @@ def _material(top):
     t = _Table(t, "material", ("name", *MATERIAL_KEYS[name]))
     if name == "koiter":
         E, nu = t.number("E", positive=True), t.number("nu")
-        if not -1.0 < nu < 0.5:
-            raise ValueError(f"material.nu: must lie in (-1, 0.5), got {nu:g}")
+        if not -1.0 < nu <= 0.5:
+            raise ValueError(f"material.nu: must lie in (-1, 0.5] (0.5: incompressible), "
+                             f"got {nu:g}")
         return E / (2.0 * (1.0 + nu)), {"material": "koiter", "nu": nu}
     mu = t.number("mu", positive=True)
     if name == "nh":
@@ -1189,8 +1288,21 @@ def _ends(top, meridian, units, param):
 
 
 def _solver(top, span, scale):
-    t = top.table("solver", ("method", "tol", "monitor", "points"))
+    t = top.table("solver", ("method", "tol", "monitor", "points", "degree"))
     method = t.string("method", "spectral", choices=METHOD_NAMES)
+    if "degree" in t:
+        from .methods import Chebyshev, Ritz
+
+        value = t.raw("degree")
+        kinds = {"spectral": (Chebyshev, "nodes", 8, 400), "energy": (Ritz, "degree", 6, 64)}
+        if method not in kinds:
+            raise ValueError(f"solver.degree: the degree per element is a setting of the "
+                             f"spectral and energy methods, not of {method!r}")
+        cls, name, lo, hi = kinds[method]
+        if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+            raise ValueError(f"solver.degree: expected an integer in [{lo}, {hi}] (the "
+                             f"polynomial degree per element), got {_describe(value)}")
+        method = cls(**{name: value})
     tol = t.number("tol", DEFAULT_RELATIVE_TOL * abs(span), positive=True)
     if not tol < 0.1 * abs(scale):
         raise ValueError(f"solver.tol: must be below {0.1 * abs(scale):g} (a tenth of the "
@@ -1221,9 +1333,10 @@ def _observables(top, units, meridian, parameter):
         if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
             raise ValueError(f"{key}: a column's name is letters, digits and _ (not starting "
                              f"with a digit)")
-        if name in RESERVED or name == parameter:
+        if name in RESERVED or name == parameter or name.endswith("_error"):
             raise ValueError(f"{key}: the name is taken (reserved: "
-                             f"{', '.join((*RESERVED, parameter))})")
+                             f"{', '.join((*RESERVED, parameter))} and names ending in "
+                             f"_error, the error estimates' columns)")
         out.append(_observable(name, text, key, units.length_label,
                                meridian.length * units.length,
                                f"{units.modulus_label}*{units.length_label}^2"))

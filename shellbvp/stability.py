@@ -268,9 +268,11 @@ def stable_point(system, pt) -> str:
                "the reduced energy is elliptic: a fold or bifurcation of the axisymmetric "
                "shell")
     where = ", ".join(f"{k} {v}" for k, v in system.describe().items())
+    sc = system.scene
     return (f"the discrete energy's Hessian at fixed {name} loses positive definiteness "
-            f"before {name} = {pt.p:.6g} (smallest eigenvalue {lam:.3g}, its mode largest at "
-            f"s = {s_mode:.4g}; Legendre condition min {L:.3g} at s = {s_L:.4g}, {L0:.3g} on "
+            f"before {sc.quote(pt.p)} (smallest eigenvalue {lam:.3g}, its mode largest at "
+            f"{sc.quote_s(s_mode)}; Legendre condition min {L:.3g} at {sc.quote_s(s_L)}, "
+            f"{L0:.3g} on "
             f"the undeformed shell): {verdict} ({where})")
 
 

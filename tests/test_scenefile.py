@@ -287,10 +287,15 @@ def test_same_shell_in_metres_and_millimetres(plate_runs):
     a, b = plate_runs["m"], plate_runs["mm"]
     assert a.columns == b.columns and len(a.rows) == len(b.rows) > 5
     A, B = np.array(a.rows, dtype=float), np.array(b.rows, dtype=float)
-    scale = np.array([1e-6, 1e3, 1e3, 1.0, 1e3])   # p, w_centre, w_half, slope, energy
-    for k in range(5):
-        assert np.allclose(A[:, k] * scale[k], B[:, k], rtol=1e-7,
-                           atol=1e-10 * np.abs(B[:, k]).max()), a.columns[k]
+    values = [0, 2, 4, 6, 8]                       # p, w_centre, w_half, slope, energy
+    scale = np.array([1e-6, 1e3, 1e3, 1.0, 1e3])
+    for k, c in enumerate(values):
+        assert np.allclose(A[:, c] * scale[k], B[:, c], rtol=1e-7,
+                           atol=1e-10 * np.abs(B[:, c]).max()), a.columns[c]
+        # the error estimates (the next column) are at round-off in either unit: both far
+        # below the tolerance the values agree to
+        assert np.all(A[:, c + 1] * scale[k] <= 1e-9 * np.abs(B[:, c]).max()), a.columns[c]
+        assert np.all(B[:, c + 1] <= 1e-9 * np.abs(B[:, c]).max()), b.columns[c]
     assert a.last["w_centre"] < 0 and a.last["slope_half"] > 0     # sags: the slope turns up
     assert b.last["w_centre"] == pytest.approx(1e3 * a.last["w_centre"], rel=1e-7)
 
@@ -313,14 +318,20 @@ def test_table_csv_and_summary(plate_runs, tmp_path):
     out = tmp_path / "plate.csv"
     run.to_csv(out)
     lines = out.read_text().splitlines()
-    assert lines[0] == ("p,w_centre[length],w_half[length],slope_half[rad],"
-                        "energy[modulus*length^3],is_fold,error_estimate")
+    assert lines[0] == ("p,p_error,w_centre[length],w_centre_error[length],w_half[length],"
+                        "w_half_error[length],slope_half[rad],slope_half_error[rad],"
+                        "energy[modulus*length^3],energy_error[modulus*length^3],is_fold,"
+                        "is_requested")
     assert len(lines) == len(run.rows) + 1 == len(run.branch.points) + 1
-    assert [float(v) for v in lines[-1].split(",")[:5]] == list(run.rows[-1][:5])
+    assert [float(v) for v in lines[-1].split(",")[:10]] == list(run.rows[-1][:10])
     summary = json.loads(json.dumps(run.summary()))
     assert summary["folds"] == [] and summary["stop"] == "reached p = 1e-06 (to)"
-    assert set(summary["last"]) == {"p", "w_centre", "w_half", "slope_half"}
-    assert summary["last"]["p"] >= 1e-6
+    assert summary["complete"] and summary["at"] == [] and summary["missing"] == []
+    assert set(summary["last"]) == {"p", "p_error", "w_centre", "w_centre_error", "w_half",
+                                    "w_half_error", "slope_half", "slope_half_error"}
+    assert summary["last"]["p"] == 1e-6           # the last step lands on 'to'
+    for name in ("w_centre", "w_half", "slope_half"):
+        assert 0 < summary["last"][f"{name}_error"] < 1e-9 * abs(summary["last"][name])
 
 
 @pytest.mark.slow
@@ -332,7 +343,7 @@ def test_everting_cap_file_snaps_where_the_cap_module_does():
     run = load_scene(example("everting-cap")).follow()
     fold = run.folds[0]
     ref = ce.snap_curvature(math.pi / 6, 0.01, tol=1e-10)
-    assert fold["p"] == pytest.approx(ref.kappa_s, abs=fold["error_estimate"]
+    assert fold["p"] == pytest.approx(ref.kappa_s, abs=fold["p_error"]
                                       + ref.error_estimate + 1e-12)
     assert fold["p"] == pytest.approx(KAPPA_S, abs=1e-10)
     # the edge's displacement relative to the apex, R0 = 1
@@ -356,18 +367,22 @@ def test_cli_follow_json_and_csv(tmp_path):
     lines = out.stdout.strip().splitlines()
     assert len(lines) == 1
     result = json.loads(lines[0])
-    assert set(result) == {"folds", "last", "stop"} and result["stop"] == "after 1 fold(s)"
+    assert set(result) == {"folds", "at", "last", "stop", "complete", "missing", "error_note"}
+    assert result["stop"] == "after 1 fold(s)" and result["complete"]
     fold = result["folds"][0]
-    assert set(fold) == {"p", "error_estimate", "deflection", "rotation_inner"}
+    assert set(fold) == {"p", "p_error", "deflection", "deflection_error", "rotation_inner",
+                         "rotation_inner_error"}
     # the disc spring of examples/disc-spring.toml snaps through at q = 3.15 N/mm, its
     # inner edge 1.33 mm down, i.e. half way to the plane of its outer edge (2.5 mm)
     assert fold["p"] == pytest.approx(3.1506415, abs=1e-6)
-    assert 0 < fold["error_estimate"] < 1e-8
+    assert 0 < fold["p_error"] < 1e-8
     assert fold["deflection"] == pytest.approx(-1.329760, abs=1e-5)
+    assert 0 < fold["deflection_error"] < 1e-6
     assert result["last"]["p"] < fold["p"]         # the branch turned back after the fold
     header = (tmp_path / "d.csv").read_text().splitlines()[0]
-    assert header == ("q[N/mm],deflection[mm],rotation_inner[rad],energy[MPa*mm^3],is_fold,"
-                      "error_estimate[N/mm]")
+    assert header == ("q[N/mm],q_error[N/mm],deflection[mm],deflection_error[mm],"
+                      "rotation_inner[rad],rotation_inner_error[rad],energy[MPa*mm^3],"
+                      "energy_error[MPa*mm^3],is_fold,is_requested")
 
 
 def test_cli_stability_json():
@@ -387,8 +402,8 @@ def test_cli_stability_of_the_everting_cap_file_is_the_cap_modules():
             (("stability", "everting-cap", "--json"), ("stability", "--json"))]
     for r in runs:
         assert r["kind"] == "bifurcation" and r["n"] == 3
-    assert runs[0]["p"] == pytest.approx(runs[1]["p"], abs=runs[0]["error_estimate"]
-                                         + runs[1]["error_estimate"])
+    assert runs[0]["p"] == pytest.approx(runs[1]["p"], abs=runs[0]["p_error"]
+                                         + runs[1]["p_error"])
 
 
 @pytest.mark.parametrize("argv,text,start", [
