@@ -67,10 +67,10 @@ def main(argv=None):
         med = statistics.median(times)
         rows.append([name, points, len(result.folds),
                      "" if fold is None else fold["p"],
-                     "" if fold is None else fold["error_estimate"], sf.tol, first, med,
+                     "" if fold is None else fold["p_error"], sf.tol, first, med,
                      min(times), max(times), repeat, med < GOAL_S])
         limit = "no limit point" if fold is None else \
-            f"limit point {fold['p']:.6g} +- {fold['error_estimate']:.2g}"
+            f"limit point {fold['p']:.6g} +- {fold['p_error']:.2g}"
         print(f"{name}: {points} points, {limit}; first call {first:.2f} s, median "
               f"{med:.3f} s (min {min(times):.3f}, max {max(times):.3f}, {repeat} runs)"
               f"{'' if PINNED else ' (not pinned)'}; goal {GOAL_S:g} s: "

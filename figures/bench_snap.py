@@ -355,7 +355,7 @@ def host_layers(nodes=(20, 32), repeats=200):
             res = newton_module.newton(system, fold.system.transfer(fold.U, fold.p, system),
                                        fold.p, 1.0, 0.0, fold.monitor, tol=1e-12)
             U, p, m = res.U, res.p, res.m
-            Y, bvp = system.split(U), system.bvp
+            Y, bvp = system.states(U), system.bvp
             owner, args, _ = packed_calls(
                 lambda: bvp.collocate(system.s, Y, p, system._hint))[-1]
             program, _, _, flat = owner.prepare(*args)

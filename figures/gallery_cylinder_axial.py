@@ -126,7 +126,7 @@ def run(quick: bool = False) -> dict:
     # the end shortening of the whole shell (twice the half's) where F first reaches F_cr
     k = int(np.argmax(pts[:, 0] >= F_cr))
     delta_cr = 2 * float(np.interp(F_cr, pts[:k + 1, 0], pts[:k + 1, 1]))
-    folds = [[2 * f["shortening"], f["p"], f["error_estimate"]] for f in b.folds]
+    folds = [[2 * f["shortening"], f["p"], f["p_error"]] for f in b.folds]
     published = clamped_reference()
     ours = F_cr / N_CL
     diff = ours / published - 1

@@ -248,7 +248,7 @@ def run(quick: bool = False) -> dict:
         F_cmp = CubicSpline(s_pub, F_pub)(s_cmp)
         rel = F_ours / F_cmp - 1
         curves[case] = {"s": pts[:, 1].tolist(), "F": pts[:, 0].tolist(),
-                        "folds": [[f["deflection"], f["p"], f["error_estimate"]]
+                        "folds": [[f["deflection"], f["p"], f["p_error"]]
                                   for f in b.folds],
                         "s_published": s_pub.tolist(), "F_published": F_pub.tolist(),
                         "s_compared": s_cmp.tolist(), "relative": rel.tolist()}

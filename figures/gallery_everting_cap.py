@@ -131,7 +131,7 @@ def run(quick: bool = False) -> dict:
     ik, iw = (b.columns.index(c) for c in ("kappa", "w_edge[length]"))
     branch = np.array([[r[ik], r[iw]] for r in b.rows])     # points and folds, in order
     folds = [{"kappa_R0": f["p"], "w_edge_over_R0": f["w_edge"],
-              "error_estimate": f["error_estimate"]} for f in b.folds]
+              "error_estimate": f["p_error"]} for f in b.folds]
     snaps = len(b.folds) >= 1
     H = 1.0 - math.cos(THETA_SCENE)
     scene_check = {"T": T_SCENE, "theta": THETA_SCENE, "h0_over_R0": sf.units.thickness,
@@ -207,7 +207,7 @@ def main(argv=None):
                      r["published"], ko["difference"], ""])
     for f in c["folds"]:
         rows.append(["fold at T=2.5 (scene file)", "cg lam=1", 1.0, f["kappa_R0"],
-                     f["error_estimate"], "", "", ""])
+                     f["p_error"], "", "", ""])
     if r["paper_statements"]:
         for k, v in r["paper_statements"]["kappa_s_R0_theta_pi_6"].items():
             rows.append(["kappa_s at Theta=pi/6", k, "", v, "", "", "", ""])

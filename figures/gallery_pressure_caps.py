@@ -134,7 +134,7 @@ def run(quick: bool = False) -> dict:
         raise RuntimeError(f"the scene file's branch has no fold: {b.stop}")
     fold = b.folds[0]
     ours = {LAMBDA_FILE: {"p_cr_over_p0": fold["p"] / scale,
-                          "error_estimate": fold["error_estimate"] / scale,
+                          "error_estimate": fold["p_error"] / scale,
                           "w_apex_over_t": fold["w_apex"] / T, "from": "scene file"}}
     ip, iw = (b.columns.index(c) for c in ("p[MPa]", "w_apex[mm]"))
     curve = {"p_over_p0": [r[ip] / scale for r in b.rows],
