@@ -145,10 +145,13 @@ def _resolution(stats: dict) -> str:
     return f"{method}, {size}" if size else str(method)
 
 
-def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
-    """The :class:`Equilibrium` of a converged discrete solution U at p."""
+def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan,
+                     energies: bool = True) -> Equilibrium:
+    """The :class:`Equilibrium` of a converged discrete solution U at p (``energies=False``:
+    the energies nan, not integrated; the shape, strains and stress resultants alone, at a
+    third of the cost: pictures and files of every point of a branch)."""
     if implements(system, MidSurface):
-        return _equilibrium_of_surface(system, U, p, stats, error_estimate)
+        return _equilibrium_of_surface(system, U, p, stats, error_estimate, energies)
     bvp = system.bvp
     sc = bvp.scene
     t, Ys = system.nodes(U, p)
@@ -179,8 +182,10 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     z_pole = y[1, 0] + y[0, 0] * y[2, 0] / 2 if bvp.poles[0] else math.nan
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
     message = "converged"
+    Es = Eb = Ep = math.nan
     try:
-        Es, Eb, Ep = bvp.energies(dense_t, p, None if roots is None else (t, roots))
+        if energies:
+            Es, Eb, Ep = bvp.energies(dense_t, p, None if roots is None else (t, roots))
     except ConvergenceError as exc:
         # the quadrature needs the state between the nodes, where next to a loss of
         # ellipticity the interpolated meridian may have no elliptic inner root: the shape
@@ -200,7 +205,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         load_potential=float(Ep), N1=thick * gw[0] / X[1], N2=thick * gw[1] / X[0])
 
 
-def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
+def _equilibrium_of_surface(system, U, p, stats, error_estimate, energies) -> Equilibrium:
     """The :class:`Equilibrium` of a :class:`shellbvp.methods.base.MidSurface` solution: the
     state read from the mid-surface at the method's own points (no inner inversion), the
     energies by its own quadrature, the force F_r from its multipliers."""
@@ -208,7 +213,7 @@ def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
     st = system.state_at(U, p, system.output_points())
     X, F = st["X"], st["F"]
     legendre, block, full = ellipticity(X.T, st["gw"], st["Hw"], sc.h)
-    Es, Eb, Ep = system.energies(U, p)
+    Es, Eb, Ep = system.energies(U, p) if energies else (math.nan,) * 3
     m, _ = system.monitor(U)
     return Equilibrium(
         scene=sc, p=float(p), s=st["s"], r=st["r"], z=st["z"], theta=st["theta"],
@@ -319,12 +324,13 @@ class Branch:
                 + (f" at {name} = {folds}" if folds else "")
                 + (f", stopped: {self.stop}" if self.stop else "") + ")")
 
-    def equilibrium(self, i: int) -> Equilibrium:
-        """The equilibrium at point i of the branch."""
+    def equilibrium(self, i: int, *, energies: bool = True) -> Equilibrium:
+        """The equilibrium at point i of the branch (``energies=False``: without them,
+        :func:`equilibrium_from`)."""
         if not -len(self.points) <= i < len(self.points):
             raise ValueError(f"i must index the branch's {len(self.points)} points, got {i!r}")
         pt = self.points[i]
-        return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats)
+        return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats, energies=energies)
 
     def plot(self, ax=None, *, instability=None, label: str | None = None):
         """The parameter against w, folds marked, and an instability of the branch if given
