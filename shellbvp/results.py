@@ -123,6 +123,21 @@ class Equilibrium:
         return plot_equilibrium(self, ax, strains=strains, mirror=mirror, origin=origin,
                                 label=label, color=color)
 
+    def plot3d(self, field: str = "normal_displacement", ax=None, **options):
+        """The deformed surface in 3D, a sector cut away, coloured by ``field`` with a
+        colour bar (:func:`shellbvp.pictures.plot3d`: the fields, ``cut``, ``magnify``,
+        ``view``, ``units``); returns the 3D axes."""
+        from .pictures import plot3d
+
+        return plot3d(self, field, ax, **options)
+
+    def to_vtk(self, path, **options) -> None:
+        """Write the surface and its fields to a ParaView file ``path`` (``.vtu``),
+        atomically (:func:`shellbvp.paraview.write_equilibrium`: ``omega``, ``units``)."""
+        from .paraview import write_equilibrium
+
+        write_equilibrium(self, path, **options)
+
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F): a guess
         for another solve."""
@@ -338,6 +353,22 @@ class Branch:
         from .plotting import plot_branch
 
         return plot_branch(self, ax, instability=instability, label=label)
+
+    def animate(self, path, **options) -> None:
+        """Write the branch's states in 3D beside its diagram, the current point marked, as
+        a GIF or MP4 ``path`` (:func:`shellbvp.pictures.animate`: ``field``, ``frames``,
+        ``fps``, ``magnify``, ``progress``, ...)."""
+        from .pictures import animate
+
+        animate(self, path, **options)
+
+    def to_vtk(self, folder, **options):
+        """Write every point as a ParaView file in ``folder`` and their collection
+        ``branch.pvd`` (:func:`shellbvp.paraview.write_branch`: ``name``, ``units``,
+        ``time``); returns the collection's path."""
+        from .paraview import write_branch
+
+        return write_branch(self, folder, **options)
 
     def rows(self):
         """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order."""
