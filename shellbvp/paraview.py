@@ -228,9 +228,8 @@ def write_branch(branch, folder, *, name: str = "branch", omega: int = RING,
             if progress is not None:
                 progress(k + 1, total)
 
-    scale = 1.0 if units is None else units.parameter_scale
-    return _series(folder, name, surfaces(), branch.p * scale, time,
-                   f"branch of {branch.scene.parameter}")
+    return _series(folder, name, surfaces(), branch.p * _scale(units), time,
+                   f"branch of {_parameter(units, branch.scene.parameter)}")
 
 
 def write_lobed_branch(lobed, folder, *, name: str = "lobed", omega: int | None = None,
@@ -253,6 +252,14 @@ def write_lobed_branch(lobed, folder, *, name: str = "lobed", omega: int | None 
             if progress is not None:
                 progress(k + 1, total)
 
-    scale = 1.0 if units is None else units.parameter_scale
-    return _series(folder, name, surfaces(), np.asarray(lobed.p) * scale, time,
-                   f"lobed branch (n = {lobed.n}) of {lobed.parameter}")
+    return _series(folder, name, surfaces(), np.asarray(lobed.p) * _scale(units), time,
+                   f"lobed branch (n = {lobed.n}) of {_parameter(units, lobed.parameter)}")
+
+
+def _scale(units) -> float:
+    return 1.0 if units is None else units.parameter_scale
+
+
+def _parameter(units, name: str) -> str:
+    """The parameter's name in ``units`` (a scene file's), else the engine's."""
+    return units.parameter if units is not None and units.parameter else name
