@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import shutil
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
 
@@ -46,7 +46,7 @@ class Look:
     Attributes:
         cut: the sector removed, degrees in [0, 360), centred on the side facing the viewer.
         view: (elevation, azimuth) of the camera, degrees.
-        cmap: a colormap or its name; None: ``RdBu_r`` for a field of both signs (centred
+        cmap: a colormap or its name; None: ``coolwarm`` for a field of both signs (centred
             on zero), else ``viridis``.
         vmin, vmax: the colour range (None: the field's).
         axes: draw the axes with their ticks and the length unit (else none).
@@ -98,7 +98,7 @@ class Look:
         if hi <= lo:                    # a constant field: a band around it
             pad = max(abs(lo), 1.0) * 1e-9
             lo, hi = lo - pad, hi + pad
-        cmap = self.cmap or ("RdBu_r" if diverging else "viridis")
+        cmap = self.cmap or ("coolwarm" if diverging else "viridis")
         return Normalize(lo, hi), (cmap if callable(cmap) else matplotlib.colormaps[cmap])
 
 
@@ -112,11 +112,12 @@ def draw_surface(ax, surface: Surface, field: str, *, norm, cmap, look: Look = L
                  colorbar: bool = True, title: str | None = None, box=None):
     """Draw ``surface`` on the 3D axes ``ax``, its faces coloured by ``field`` through
     ``norm`` and ``cmap`` (each face the mean of its four corners), the first and last
-    columns as lines where the surface is not a closed ring (the cut's meridians), one
-    scale on the three axes over ``box`` ((low, high) corners; default the surface's).
+    columns as lines where a sector is cut away (the cut's meridians), the rows at the ends
+    of the meridian as thin lines, one scale on the three axes over ``box`` ((low, high)
+    corners; default the surface's).
 
     Arguments:
-        look: the axes shown or not (:class:`Look`; the view is the caller's).
+        look: the axes shown or not, the cut (:class:`Look`; the view is the caller's).
         colorbar: add a colour bar with the field's name and unit.
         title: the axes' title (default: the parameter's value, and the magnification
             where it is not 1).
@@ -140,14 +141,17 @@ def draw_surface(ax, surface: Surface, field: str, *, norm, cmap, look: Look = L
     X, Y, Z = pts[..., 0], pts[..., 1], pts[..., 2]
     ax.plot_surface(X, Y, Z, facecolors=colours, rstride=1, cstride=1, shade=False,
                     linewidth=0, antialiased=False)
-    if not surface.periodic:
+    for i in (0, -1):                # the ends of the meridian: edges, or a pole's ring
+        ax.plot(X[i], Y[i], Z[i], color="0.35", lw=0.6, zorder=9)
+    if not surface.periodic and look.cut > 0:
         for j in (0, -1):
             ax.plot(X[:, j], Y[:, j], Z[:, j], color="k", lw=1.0, zorder=10)
     lo, hi = box if box is not None else (pts.reshape(-1, 3).min(axis=0),
                                           pts.reshape(-1, 3).max(axis=0))
     _box(ax, np.asarray(lo), np.asarray(hi), look.axes, surface.units.length_label)
     if title is None:
-        title = surface.parameter_text + (f", displacement x {surface.magnify:g}"
+        what = "lobes" if "lobe_displacement" in surface.fields else "displacement"
+        title = surface.parameter_text + (f", {what} x {surface.magnify:g}"
                                           if surface.magnify != 1 else "")
     ax.set_title(title, fontsize=9)
     mappable = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
@@ -340,12 +344,16 @@ def _write(path, movie: _Movie, field: str, look: Look, *, fps, dpi, progress, w
     fig.colorbar(_mappable(norm, cmap), ax=ax3, shrink=0.6, pad=0.0).set_label(
         surfaces[0].label(field), fontsize=8)
     tick, close = _progress(progress, len(surfaces))
+    # the parameter's round-off about zero (the first point of a branch from p = 0) as 0
+    span = max(abs(s.p) for s in surfaces)
+    titles = [replace(s, p=s.p if abs(s.p) > 1e-12 * span else 0.0).parameter_text
+              for s in surfaces]
 
     def draw(k):
         ax3.cla()
         ax3.view_init(elev=look.view[0], azim=look.view[1])
         draw_surface(ax3, surfaces[k], field, norm=norm, cmap=cmap, look=look,
-                     colorbar=False, box=box)
+                     colorbar=False, box=box, title=titles[k])
         mark.set_data([movie.marks[k][0]], [movie.marks[k][1]])
         return []
 
