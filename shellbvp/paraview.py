@@ -42,9 +42,6 @@ RING = 64
 #: the fields' precision in a file (the points keep double precision): single, as
 #: ParaView draws them, halves the bytes to compress, the larger part of a file's cost
 FIELD_DTYPE = np.float32
-#: files of a branch written at a time, beside the main thread that computes the next
-#: states (zlib, meshio's compressor, releases the GIL)
-WRITERS = 2
 #: the formats, by suffix, as meshio names them
 SUFFIXES = {".vtu": "vtu", ".vtk": "vtk"}
 #: what a collection's time may be
@@ -152,27 +149,17 @@ def _check_name(name) -> str:
 
 
 def _series(folder, name, surfaces, p, time, what) -> Path:
-    """Write each surface of the iterable ``surfaces`` as ``name_NNNN.vtu`` (WRITERS
-    threads writing while the next surfaces are computed) and then the collection; on an
-    error remove the files written (and the folder where this call made it)."""
-    from collections import deque
-    from concurrent.futures import ThreadPoolExecutor
-
+    """Write each surface of the iterable ``surfaces`` as ``name_NNNN.vtu`` and then the
+    collection; on an error remove the files written (and the folder where this call
+    made it)."""
     folder = Path(folder)
     made = not folder.exists()
-    written = []            # every file a writer was given (removed again on an error)
+    written = []
     try:
-        # on an error the pool still finishes the files it was given, then they go
-        with ThreadPoolExecutor(WRITERS) as pool:
-            jobs = deque()
-            for k, surface in enumerate(surfaces):
-                path = folder / f"{name}_{k:04d}.vtu"
-                written.append(path)
-                jobs.append(pool.submit(write_surface, surface, path))
-                while len(jobs) > 2 * WRITERS:              # bounded memory
-                    jobs.popleft().result()
-            for job in jobs:
-                job.result()
+        for k, surface in enumerate(surfaces):
+            path = folder / f"{name}_{k:04d}.vtu"
+            write_surface(surface, path)
+            written.append(path)
         times, kind = collection_times(p, time)
         note = (f"shellbvp: {what}, {len(written)} points; time = the parameter"
                 if kind == "parameter" else
@@ -182,10 +169,7 @@ def _series(folder, name, surfaces, p, time, what) -> Path:
                                         note=note))
     except BaseException:
         for w in written:
-            try:
-                w.unlink()
-            except OSError:         # never written (or the folder is not one)
-                pass
+            w.unlink(missing_ok=True)
         if made and folder.is_dir() and not any(folder.iterdir()):
             folder.rmdir()
         raise
