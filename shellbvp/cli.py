@@ -188,27 +188,37 @@ Every command has its own --help. Documentation: docs/ (mkdocs build), README.md
 
 def parser():
     import shellbvp
+    from .scenefile import examples
 
-    p = _Parser(prog="shellbvp", description=DESCRIPTION, epilog=EPILOG,
+    p = _Parser(prog="shellbvp", description=DESCRIPTION,
+                epilog=f"{EPILOG}\ninstalled examples: {', '.join(examples())}",
                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action="version", version=f"shellbvp {shellbvp.__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true",
                         help="no progress bars or status lines on stderr")
     sub = p.add_subparsers(dest="command", required=True, metavar="command")
-
-    def command(name, text):
-        return sub.add_parser(name, help=text, description=text, parents=[common])
-
-    f = command("follow", "continue a scene file's shell from its parameter's 'from' to "
-                          "'to': its folds and named observables")
-    f.add_argument("file", metavar="FILE", help="a scene file (TOML) or an installed "
-                                                "example's name")
-    f.add_argument("--csv", default=None, help="write every point and fold to this CSV")
-    _vtk(f, "every point of the branch")
-    f.add_argument("--json", action="store_true", help="print one JSON object")
-    st = command("stability", "first instability beyond axisymmetry of a scene file's "
-                              "branch or of one cap: the fold or a bifurcation into n waves")
+    s = sub.add_parser("snap", help="snap curvature kappa_s of one cap", parents=[common])
+    _common(s)
+    b = sub.add_parser("branch", help="continuation diagram kappa(w) to the first fold",
+                       parents=[common])
+    _common(b)
+    b.add_argument("--csv", required=True, help="output CSV file")
+    b.add_argument("--kappa-max", type=float, default=None, help="stop at this kappa R0")
+    w = sub.add_parser("sweep", help="kappa_s against T = Theta sqrt(R0/h0)", parents=[common])
+    _common(w, theta=False)
+    w.add_argument("--T", type=_range, required=True, help="START:STOP:STEP of T")
+    w.add_argument("--csv", required=True, help="output CSV file")
+    w.add_argument("--jobs", type=int, default=1,
+                   help="local processes (default 1); the values do not depend on it")
+    w.add_argument("--chunk-size", type=int, default=CHUNK_SIZE,
+                   help=f"caps per chunk, each following its own fold curve (default "
+                        f"{CHUNK_SIZE})")
+    w.add_argument("--resume", action="store_true",
+                   help="continue an interrupted sweep from its journal (CSV.journal)")
+    st = sub.add_parser("stability", help="first instability beyond axisymmetry of one cap or "
+                                          "of a scene file's branch: the fold or a "
+                                          "bifurcation into n waves", parents=[common])
     st.add_argument("file", nargs="?", default=None, metavar="FILE",
                     help="a scene file (TOML) or an installed example's name; without it, "
                          "the cap of the options below")
@@ -217,9 +227,10 @@ def parser():
                     help="a cap: scan the branch up to this kappa R0, > 0 (default: until its "
                          "apex passes 1.2 times full eversion)")
     st.add_argument("--json", action="store_true", help="print one JSON object")
-    pb = command("postbuckling", "past the first bifurcation of a scene file's branch or of "
-                                 "one cap: Koiter's coefficients, the branch of n-lobed "
-                                 "equilibria and the snap")
+    pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
+                                             "scene file's branch: Koiter's coefficients, the "
+                                             "branch of n-lobed equilibria and the snap",
+                        parents=[common])
     pb.add_argument("file", nargs="?", default=None, metavar="FILE",
                     help="a scene file (TOML) or an installed example's name; without it, "
                          "the cap of the options below")
@@ -245,23 +256,14 @@ def parser():
                          "(default none)")
     pb.add_argument("--csv", default=None, help="write the lobed branch to this CSV")
     _vtk(pb, "every lobed state")
-    s = command("snap", "snap curvature kappa_s of one everting cap")
-    _common(s)
-    b = command("branch", "continuation diagram kappa(w) of one everting cap to its first fold")
-    _common(b)
-    b.add_argument("--csv", required=True, help="output CSV file")
-    b.add_argument("--kappa-max", type=float, default=None, help="stop at this kappa R0")
-    w = command("sweep", "kappa_s of everting caps against T = Theta sqrt(R0/h0)")
-    _common(w, theta=False)
-    w.add_argument("--T", type=_range, required=True, help="START:STOP:STEP of T")
-    w.add_argument("--csv", required=True, help="output CSV file")
-    w.add_argument("--jobs", type=int, default=1,
-                   help="local processes (default 1); the values do not depend on it")
-    w.add_argument("--chunk-size", type=int, default=CHUNK_SIZE,
-                   help=f"caps per chunk, each following its own fold curve (default "
-                        f"{CHUNK_SIZE})")
-    w.add_argument("--resume", action="store_true",
-                   help="continue an interrupted sweep from its journal (CSV.journal)")
+    f = sub.add_parser("follow", help="continue a scene file from its parameter's 'from' to "
+                                      "'to', observing its named observables",
+                       parents=[common])
+    f.add_argument("file", metavar="FILE", help="a scene file (TOML) or an installed "
+                                                "example's name")
+    f.add_argument("--csv", default=None, help="write every point and fold to this CSV")
+    _vtk(f, "every point of the branch")
+    f.add_argument("--json", action="store_true", help="print one JSON object")
     return p
 
 
