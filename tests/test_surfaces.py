@@ -303,3 +303,42 @@ def test_bad_arguments_are_refused_before_any_work(snap, tmp_path):
         with pytest.raises(ValueError, match=text):
             call()
     assert not list(tmp_path.iterdir())
+
+
+# --- the docs page's pictures ----------------------------------------------------------------
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+PAGE = ROOT / "docs" / "pictures.md"
+
+
+def _pictures():
+    import re
+
+    return re.findall(r"\]\(figures/(pictures_\w+)\.(png|gif)\)", PAGE.read_text())
+
+
+def test_the_pages_pictures_exist_and_name_their_scripts():
+    """Every picture of the Pictures page is a file under figures/ with the script of its
+    name beside it, which the page names."""
+    found = _pictures()
+    assert {stem for stem, _ in found} >= {"pictures_everting_cap", "pictures_fig3_lobes",
+                                          "pictures_bud", "pictures_disc_spring"}
+    text = PAGE.read_text()
+    for stem, suffix in found:
+        assert (ROOT / "figures" / f"{stem}.{suffix}").stat().st_size > 1000, stem
+        assert (ROOT / "figures" / f"{stem}.py").is_file(), stem
+        assert f"`figures/{stem}.py`" in text, stem
+
+
+@pytest.mark.slow       # each script compiles its scenes: minutes
+@pytest.mark.parametrize("stem", ["pictures_everting_cap", "pictures_disc_spring",
+                                  "pictures_fig3_lobes", "pictures_bud"])
+def test_the_picture_scripts_regenerate_their_pictures(stem, tmp_path):
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, str(ROOT / "figures" / f"{stem}.py"), "--quick",
+                          "--out", str(tmp_path)], capture_output=True, text=True,
+                         env={**__import__("os").environ, "MPLBACKEND": "Agg"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    wanted = {f"{s}.{x}" for s, x in _pictures() if s == stem} | {f"{stem}.csv"}
+    assert wanted <= {f.name for f in tmp_path.iterdir()}
