@@ -123,3 +123,44 @@ def read_series(path: Path, x: str, y: str) -> dict:
             xs.append(float(r[x]))
             ys.append(float(r[y]))
     return {k: (np.array(a), np.array(b)) for k, (a, b) in out.items()}
+
+
+def states_and_branch(states, field: str, curve, *, xlabel: str, ylabel: str, label: str,
+                      units=None, folds=()):
+    """A figure of equilibria in 3D (``Equilibrium.plot3d``), one colour scale symmetric
+    about zero (the coolwarm map, its bar on the left, ``label``), and beside them a
+    branch's diagram ``curve`` = (x, y) with its ``folds`` (x, y) and the states marked and
+    numbered. ``states``: (equilibrium, x, y, title) each."""
+    import numpy as np
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    from shellbvp.surface import equilibrium_surface
+
+    plt = pyplot()
+    top = max(np.abs(equilibrium_surface(eq, omega=4, units=units).scalar(field)).max()
+              for eq, *_ in states)
+    n = len(states)
+    fig = plt.figure(figsize=(2.6 * n + 2.6, 3.4))
+    grid = fig.add_gridspec(1, n + 1, width_ratios=(1,) * n + (1.1,), wspace=0.05,
+                            left=0.08, right=0.94)
+    for k, (eq, _, _, title) in enumerate(states):
+        ax = fig.add_subplot(grid[k], projection="3d")
+        eq.plot3d(field, ax, vmin=-top, vmax=top, cmap="coolwarm", colorbar=False,
+                  units=units, title=f"{k + 1}: {title}")
+    fig.colorbar(ScalarMappable(Normalize(-top, top), "coolwarm"), ax=fig.axes,
+                 shrink=0.6, pad=0.01, location="left").set_label(label, fontsize=8)
+    ax = fig.add_subplot(grid[n])
+    ax.plot(*curve, "-", lw=1.0)
+    for fx, fy in folds:
+        ax.plot(fx, fy, ".", color="C0", ms=4)
+    for k, (_, x, y, _) in enumerate(states):
+        ax.plot(x, y, "o", color="C3", ms=6)
+        ax.annotate(str(k + 1), (x, y), xytext=(4, -10), textcoords="offset points",
+                    fontsize=8)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.yaxis.set_label_position("right")
+    ax.yaxis.tick_right()
+    ax.set_title(f"the branch: 1-{n} drawn", fontsize=9)
+    return fig

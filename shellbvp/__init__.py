@@ -25,12 +25,16 @@ Scene files (a shell as a TOML file, :mod:`shellbvp.scenefile`)
 Results
     Equilibrium, Branch, Fold, MonitorPoint, FoldCurvePoint, SecondVariation, SnapResult,
     Onset, PressureResult, SnapCurve, ConvergenceError
+Pictures and files (the methods ``plot3d``, ``animate``, ``to_vtk`` of the results)
+    OutputUnits (the units they are written in: the engine's or a scene file's)
 
 Lower tiers: :mod:`shellbvp.bvp` (``ShellBVP``, the multi-point BVP of a scene),
 :mod:`shellbvp.methods` (``default_nodes``, ``bracketing_nodes``, the protocols),
 :mod:`shellbvp.continuation` (Newton, pseudo-arclength, folds), :mod:`shellbvp.energy`
 (``thickness_map``), :mod:`shellbvp.series`, :mod:`shellbvp.cache` (``atomic_write_text``),
-:mod:`shellbvp.sweep` (sweeps with per-item outcomes, a journal, resumption and executors).
+:mod:`shellbvp.sweep` (sweeps with per-item outcomes, a journal, resumption and executors),
+:mod:`shellbvp.surface` (the 3D surface of a state and its fields), :mod:`shellbvp.pictures`
+(3D pictures, animations), :mod:`shellbvp.paraview` (VTK files and ParaView collections).
 Scenes of the paper live in :mod:`shellbvp.problems`, the command line in
 :mod:`shellbvp.cli`.
 
@@ -59,6 +63,7 @@ from .stability import SecondVariation, second_variation
 from .harmonics import Modes, modes
 from .instability import Instability, first_instability, modes_along
 from .postbuckling import Koiter, LobedBranch, follow_bifurcation
+from .surface import OutputUnits
 
 try:
     __version__ = _version("shellbvp")
@@ -77,5 +82,5 @@ __all__ = [
     "follow_bifurcation", "Koiter", "LobedBranch",
     "Equilibrium", "Branch", "Fold", "MonitorPoint", "FoldCurvePoint", "SecondVariation",
     "SnapResult", "Onset", "PressureResult", "SnapCurve", "ConvergenceError",
-    "__version__",
+    "OutputUnits", "__version__",
 ]

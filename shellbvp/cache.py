@@ -17,7 +17,8 @@ import tempfile
 from pathlib import Path
 from typing import Any, Callable
 
-__all__ = ["key", "memo", "files_digest", "cache_dir", "atomic_write_text", "atomic_write_bytes"]
+__all__ = ["key", "memo", "files_digest", "cache_dir", "atomic_write_text", "atomic_write_bytes",
+           "atomic_write"]
 
 
 def cache_dir() -> Path | None:
@@ -84,12 +85,36 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
 
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """:func:`atomic_write_text` for bytes (e.g. a rendered PNG)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as f:
             f.write(data)
+
+    atomic_write(path, write)
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[Path], None], *,
+                 keep_suffix: bool = False) -> None:
+    """Let ``write(tmp)`` write a file at a temporary path beside ``path`` (in the same
+    folder, so that the final rename is atomic), then move it to ``path`` with the
+    permissions of an ordinary ``open(path, "w")``. On any error, or an interrupt, the
+    temporary file is removed and ``path`` is untouched. The temporary name ends in
+    ``.tmp``, or with ``keep_suffix`` in ``path``'s own suffix (for writers that take the
+    format from the name, e.g. an animation's ``.gif``).
+
+    Raises:
+        OSError: the folder cannot be created or written (the message names ``path``),
+            or whatever ``write`` raises.
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.",
+                                   suffix=f".tmp{path.suffix}" if keep_suffix else ".tmp")
+    except OSError as exc:
+        raise OSError(exc.errno, f"cannot write {path}: {exc.strerror}") from None
+    os.close(fd)
+    try:
+        write(Path(tmp))
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:

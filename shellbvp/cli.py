@@ -1,14 +1,22 @@
-"""The ``shellbvp`` command line: snap curvature, continuation diagrams and sweeps of caps,
-stability and post-buckling, and scene files.
+"""The ``shellbvp`` command line: any shell of revolution written as a scene file (its
+branch, first instability and post-buckling), and the paper's everting caps built in (snap
+curvature, continuation diagrams, sweeps, stability and post-buckling).
 
+    shellbvp follow FILE [--csv OUT.csv] [--vtk DIR] [--json] [--at P1,P2,...]
+    shellbvp stability FILE [--json]
+    shellbvp postbuckling FILE [--n-folds 1] [--p-min P] [--p-max P] [--csv OUT.csv] [--vtk DIR]
     shellbvp snap   --theta 0.5236 --h 0.01 --lam 1 --model relaxed
     shellbvp branch --theta 0.5236 --h 0.01 --lam 1 --csv branch.csv
     shellbvp sweep  --T 2:10:0.25 --h 0.01 --lam 1 --csv sweep.csv [--jobs 2] [--resume]
     shellbvp stability --theta 0.5236 --h 0.01 --lam 1 [--json]
-    shellbvp follow FILE [--csv OUT.csv] [--json] [--at P1,P2,...]
-    shellbvp stability FILE [--json]
     shellbvp postbuckling --theta 0.5236 --h 0.01 --lam 1 [--K 2] [--csv lobed.csv]
-    shellbvp postbuckling FILE [--n-folds 1] [--p-min P] [--p-max P] [--csv OUT.csv]
+    shellbvp --version
+
+``--vtk DIR`` writes every point of the branch (``follow``) or of the lobed branch
+(``postbuckling``) as a ParaView file in DIR with their collection (``branch.pvd``,
+``lobed.pvd``; :mod:`shellbvp.paraview`), in the scene file's units. Long runs show their
+progress on stderr (the parameter reached, the points, the folds passed: tqdm), only when
+stderr is a terminal and not with ``--quiet``; standard output (``--json``) never holds it.
 
 FILE is a scene file (TOML, :mod:`shellbvp.scenefile`), or the name of an example installed
 with the package (``shellbvp follow everting-cap``; :func:`shellbvp.scenefile.examples`).
@@ -49,6 +57,7 @@ import json
 import math
 import signal
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -99,7 +108,7 @@ def _sweep(a, ce, opts) -> int:
     try:
         curve = ce.snap_curve(a.T, a.h, a.lam, tol=a.tol, csv_path=a.csv, jobs=a.jobs,
                               resume=a.resume, chunk_size=a.chunk_size,
-                              progress=sys.stderr.isatty(), **opts)
+                              progress=not _quiet(a), **opts)
     except SweepInterrupted as exc:
         print(f"shellbvp: interrupted after {len(exc.records)} of {exc.total} caps; results "
               f"so far in {a.csv}; --resume continues", file=sys.stderr)
@@ -163,17 +172,43 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
+DESCRIPTION = """\
+Equilibria, folds, stability and post-buckling of elastic shells of revolution: any
+meridian (plates, cones, cylinders, spheres, tori, ellipses, measured curves, joined with
+kinks), ends, loads and stimuli, written as a scene file (TOML, in your own units), with
+reduced shell energies derived from 3D (Taffetani & Pezzulla). The everting spherical
+caps of the paper are built in (snap, branch, sweep)."""
+
+EPILOG = """\
+examples:
+  shellbvp follow everting-cap             an installed example scene file, by name
+  shellbvp follow my-shell.toml --csv out.csv --vtk out/   branch, folds; ParaView files
+  shellbvp stability disc-spring --json    first instability: fold or n circumferential waves
+  shellbvp postbuckling my-shell.toml      Koiter's coefficients, the lobed branch, the snap
+  shellbvp snap --theta 0.5236 --h 0.01    snap curvature of one everting cap
+Every command has its own --help. Documentation: docs/ (mkdocs build), README.md."""
+
+
 def parser():
-    p = _Parser(prog="shellbvp", description="Snap-through of everting "
-                                "spherical caps (Taffetani & Pezzulla, Section 5.2).")
-    sub = p.add_subparsers(dest="command", required=True)
-    s = sub.add_parser("snap", help="snap curvature kappa_s of one cap")
+    import shellbvp
+    from .scenefile import examples
+
+    p = _Parser(prog="shellbvp", description=DESCRIPTION,
+                epilog=f"{EPILOG}\ninstalled examples: {', '.join(examples())}",
+                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--version", action="version", version=f"shellbvp {shellbvp.__version__}")
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--quiet", "-q", action="store_true",
+                        help="no progress bars or status lines on stderr")
+    sub = p.add_subparsers(dest="command", required=True, metavar="command")
+    s = sub.add_parser("snap", help="snap curvature kappa_s of one cap", parents=[common])
     _common(s)
-    b = sub.add_parser("branch", help="continuation diagram kappa(w) to the first fold")
+    b = sub.add_parser("branch", help="continuation diagram kappa(w) to the first fold",
+                       parents=[common])
     _common(b)
     b.add_argument("--csv", required=True, help="output CSV file")
     b.add_argument("--kappa-max", type=float, default=None, help="stop at this kappa R0")
-    w = sub.add_parser("sweep", help="kappa_s against T = Theta sqrt(R0/h0)")
+    w = sub.add_parser("sweep", help="kappa_s against T = Theta sqrt(R0/h0)", parents=[common])
     _common(w, theta=False)
     w.add_argument("--T", type=_range, required=True, help="START:STOP:STEP of T")
     w.add_argument("--csv", required=True, help="output CSV file")
@@ -186,7 +221,7 @@ def parser():
                    help="continue an interrupted sweep from its journal (CSV.journal)")
     st = sub.add_parser("stability", help="first instability beyond axisymmetry of one cap or "
                                           "of a scene file's branch: the fold or a "
-                                          "bifurcation into n waves")
+                                          "bifurcation into n waves", parents=[common])
     st.add_argument("file", nargs="?", default=None, metavar="FILE",
                     help="a scene file (TOML) or an installed example's name; without it, "
                          "the cap of the options below")
@@ -197,7 +232,8 @@ def parser():
     st.add_argument("--json", action="store_true", help="print one JSON object")
     pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
                                              "scene file's branch: Koiter's coefficients, the "
-                                             "branch of n-lobed equilibria and the snap")
+                                             "branch of n-lobed equilibria and the snap",
+                        parents=[common])
     pb.add_argument("file", nargs="?", default=None, metavar="FILE",
                     help="a scene file (TOML) or an installed example's name; without it, "
                          "the cap of the options below")
@@ -222,16 +258,25 @@ def parser():
                     help="stop once the critical mode's (mass-norm) amplitude exceeds this, > 0 "
                          "(default none)")
     pb.add_argument("--csv", default=None, help="write the lobed branch to this CSV")
+    _vtk(pb, "every lobed state")
     f = sub.add_parser("follow", help="continue a scene file from its parameter's 'from' to "
-                                      "'to', observing its named observables")
+                                      "'to', observing its named observables",
+                       parents=[common])
     f.add_argument("file", metavar="FILE", help="a scene file (TOML) or an installed "
                                                 "example's name")
     f.add_argument("--csv", default=None, help="write every point and fold to this CSV")
+    _vtk(f, "every point of the branch")
     f.add_argument("--json", action="store_true", help="print one JSON object")
     f.add_argument("--at", type=_number_list, default=None, metavar="P1,P2,...",
                    help="report the states at these parameter values exactly (in its "
                         "units, inside the file's range; replaces its [parameter] at)")
     return p
+
+
+def _vtk(p, what: str) -> None:
+    p.add_argument("--vtk", default=None, metavar="DIR",
+                   help=f"write {what} as a ParaView file in DIR, and their collection "
+                        f"(.pvd), in the scene file's units")
 
 
 #: the options of the built-in cap, which a scene file states itself
@@ -241,8 +286,6 @@ CAP_OPTIONS = ("--theta", "--h", "--lam", "--model", "--material", "--nu")
 def _scene_file(p, a, argv):
     """The scene file FILE names (a path, else an installed example), or exit 2 with one
     line."""
-    from pathlib import Path
-
     from .scenefile import example, load_scene
 
     given = [o for o in CAP_OPTIONS for x in (argv if argv is not None else sys.argv[1:])
@@ -272,16 +315,132 @@ def _number_list(text):
     return values
 
 
+def _quiet(a) -> bool:
+    """No progress or status lines: ``--quiet``, or stderr is not a terminal."""
+    return getattr(a, "quiet", False) or not sys.stderr.isatty()
+
+
+class _Progress:
+    """A progress bar on stderr (tqdm) of a continuation, called with the parameter of
+    every point: the points so far, the parameter reached and the folds passed (where the
+    parameter turned back); nothing where :func:`_quiet`. A context manager."""
+
+    def __init__(self, a, what: str, name: str, unit: str = ""):
+        from tqdm import tqdm
+
+        self.name, self.unit = name, unit
+        self.bar = tqdm(desc=f"shellbvp: {what}", unit=" points", file=sys.stderr,
+                        disable=_quiet(a), leave=False,
+                        bar_format="{desc}: {n_fmt}{unit} [{elapsed}]{postfix}")
+        self.last, self.direction, self.folds = None, 0, 0
+
+    def __call__(self, p, extra: str = "") -> None:
+        if self.last is not None and p != self.last:
+            direction = 1 if p > self.last else -1
+            self.folds += self.direction * direction < 0
+            self.direction = direction
+        self.last = p
+        self.bar.set_postfix_str(f"{self.name} = {p:.6g}{self.unit}, {self.folds} fold(s)"
+                                 + extra, refresh=False)
+        self.bar.update(1)
+
+    def close(self) -> None:
+        self.bar.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _counter(a, what: str):
+    """A progress report ``(done, total)`` on stderr (a tqdm bar, made at the first call),
+    nothing where :func:`_quiet`; returns (report, close)."""
+    from tqdm import tqdm
+
+    bars = []
+
+    def report(done, total):
+        if not bars:
+            bars.append(tqdm(total=total, desc=f"shellbvp: {what}", unit=" points",
+                             file=sys.stderr, disable=_quiet(a), leave=False))
+        bars[0].update(done - bars[0].n)
+
+    return report, (lambda: bars and bars[0].close())
+
+
+def _first_instability(sf, a):
+    """The scene file's first instability, with its progress: the branch, then the
+    harmonics checked point by point."""
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    report, close = _counter(a, "checking harmonics n at each point")
+    bar = _Progress(a, "branch", sf.parameter, unit)
+
+    def checked(done, total):
+        bar.close()                 # the branch is done: one bar at a time
+        report(done, total)
+
+    try:
+        return sf.first_instability(tol=a.tol, progress=bar, checked=checked)
+    finally:
+        bar.close()
+        close()
+
+
+def _vtk_folder(a) -> None:
+    """Refuse a ``--vtk`` folder that cannot be written, before anything is computed
+    (_BadOption): an existing path that is not a folder, or a folder that cannot be made
+    or written."""
+    import os
+
+    if getattr(a, "vtk", None) is None:
+        return
+    path = Path(a.vtk)
+    if path.exists() and not path.is_dir():
+        raise _BadOption(f"--vtk {a.vtk}: not a folder")
+    up = path
+    while not up.exists():
+        up = up.parent
+    if not up.is_dir() or not os.access(up, os.W_OK | os.X_OK):
+        raise _BadOption(f"--vtk {a.vtk}: cannot write there ({up} is not a writable "
+                         f"folder)")
+
+
+def _write_vtk(a, write, p) -> str:
+    """Write the ParaView files of a branch whose parameter takes the values p with
+    ``write(folder, progress)`` (a bar on stderr); the line that names them. An unwritable
+    folder is bad input (_BadOption)."""
+    from .paraview import collection_times
+
+    report, close = _counter(a, f"writing ParaView files to {a.vtk}")
+    try:
+        pvd = write(a.vtk, report)
+    except OSError as exc:
+        raise _BadOption(f"--vtk {a.vtk}: {exc.strerror or exc}") from None
+    finally:
+        close()
+    kind = collection_times(p)[1]
+    return (f"ParaView: {pvd}, {len(p)} files, time = " +
+            ("the parameter" if kind == "parameter" else
+             "the point's index (the parameter turns back along the branch)"))
+
+
 def _follow_file(sf, a) -> int:
-    """``follow FILE``: every point that converged is printed and written, also where the
-    continuation stalls (then with the reason, and exit status 1)."""
-    run = sf.follow(at=a.at)
+    """``follow FILE``: every point that converged is printed and written (CSV, ParaView),
+    also where the continuation stalls (then with the reason, and exit status 1)."""
+    from .surface import OutputUnits
+
+    unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
+    with _Progress(a, "branch", sf.parameter, unit) as bar:
+        run = sf.follow(progress=bar, at=a.at)
     if a.csv:
         run.to_csv(a.csv)
+    vtk = _write_vtk(a, lambda folder, report: run.branch.to_vtk(
+        folder, units=OutputUnits.of(sf), progress=report), run.branch.p) if a.vtk else None
     if a.json:
         print(json.dumps(run.summary()))
     else:
-        unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
         print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to "
               f"{sf.stop:g}{unit}")
         for k, fold in enumerate(run.folds, 1):
@@ -295,6 +454,8 @@ def _follow_file(sf, a) -> int:
             print(f"error estimates: {run.error_note}")
         print(f"{len(run.branch.points)} points, {len(run.folds)} fold(s); stop: {run.stop}"
               + (f" -> {a.csv}" if a.csv else ""))
+        if vtk:
+            print(vtk)
     if not run.complete:
         print(f"shellbvp: the continuation stalled: {run.stop}", file=sys.stderr)
         return 1
@@ -317,7 +478,7 @@ def _values(d: dict, sf) -> str:
 
 
 def _stability_file(sf, a) -> None:
-    found = sf.first_instability(tol=a.tol)
+    found = _first_instability(sf, a)
     if a.json:
         print(json.dumps(found.summary()))
         return
@@ -353,9 +514,11 @@ def _bounds(a, default, origin) -> tuple:
 
 
 def _postbuckling_file(sf, a) -> None:
+    from .surface import OutputUnits
+
     label = f"[{sf.units.parameter_label}]" if sf.units.parameter_label else ""
     bounds = _bounds(a, sorted((sf.start, sf.stop)), "the file's range")
-    found = sf.first_instability(tol=a.tol)
+    found = _first_instability(sf, a)
     unit = f" {sf.units.parameter_label}" if sf.units.parameter_label else ""
     head = f"{sf.title or sf.source}: first instability: "
     if found.kind != "bifurcation":
@@ -367,14 +530,15 @@ def _postbuckling_file(sf, a) -> None:
         return
     print(f"{sf.title or sf.source}: {sf.parameter} from {sf.start:g} to {sf.stop:g}{unit}")
     _postbuckling(a, found.instability, name=sf.parameter, unit=unit, scale=sf.scale,
-                  bounds=bounds, column=f"{sf.parameter}{label}")
+                  bounds=bounds, column=f"{sf.parameter}{label}", units=OutputUnits.of(sf))
 
 
-def _postbuckling(a, ins, *, name, unit, scale, bounds, column) -> None:
+def _postbuckling(a, ins, *, name, unit, scale, bounds, column, units=None) -> None:
     """Follow the lobed branch from the bifurcation ``ins`` (the engine's
     :class:`shellbvp.Instability`, parameter t) and print it in the parameter's own units, p
     = scale t (a cap: kappa R0, scale 1). ``bounds``: (low, high) in those units (from
-    :func:`_bounds`, infinite for none)."""
+    :func:`_bounds`, infinite for none); ``units``: the ParaView files' (``--vtk``;
+    :class:`shellbvp.surface.OutputUnits`, None: the engine's)."""
     from .postbuckling import follow_bifurcation
 
     lo, hi = bounds
@@ -393,26 +557,20 @@ def _postbuckling(a, ins, *, name, unit, scale, bounds, column) -> None:
                          f"branch starts" + (f": {opt} must lie {'below' if low else 'above'} "
                                              f"it" if opt else ""))
     t_stop = tuple(sorted((lo / scale, hi / scale)))
-    tty = sys.stderr.isatty()
-
-    def progress(pt):
-        print(f"\rshellbvp: lobed branch: {show(pt.p)}, amplitude {pt.monitor:.4g}   ",
-              end="", file=sys.stderr, flush=True)
-
-    if tty:
+    if not _quiet(a):
         print(f"shellbvp: a bifurcation into n = {ins.n} at {show(ins.p)}: Koiter's "
               f"coefficients and the lobed branch (K = {a.K}), then the error estimates on "
               f"a finer discretisation (~1-2 min)...", file=sys.stderr, flush=True)
-    try:
-        br = follow_bifurcation(ins, K=a.K, degree=a.degree, n_folds=a.n_folds,
-                                amplitude_max=a.amplitude_max,
-                                p_stop=None if lo == -hi == -math.inf else t_stop,
-                                progress=progress if tty else None)
-    finally:
-        if tty:
-            print(file=sys.stderr, flush=True)
+    with _Progress(a, "lobed branch", name, unit) as bar:
+        br = follow_bifurcation(
+            ins, K=a.K, degree=a.degree, n_folds=a.n_folds, amplitude_max=a.amplitude_max,
+            p_stop=None if lo == -hi == -math.inf else t_stop,
+            progress=lambda pt: bar(scale * pt.p, f", amplitude {pt.monitor:.4g}"))
     if a.csv:
         _lobed_csv(br, a.csv, column, scale)
+    vtk = _write_vtk(a, lambda folder, report: br.to_vtk(folder, units=units,
+                                                         progress=report),
+                     br.p) if a.vtk else None
     k = br.koiter
     stop = br.stop
     if br.stop == f"{br.parameter} left [{t_stop[0]:g}, {t_stop[1]:g}]":
@@ -439,6 +597,8 @@ def _postbuckling(a, ins, *, name, unit, scale, bounds, column) -> None:
         print(f"snap: at the first lobed fold, {show(fo.p)}{err} (supercritical)")
     else:
         print("snap: not found (supercritical, and no lobed fold before the stop)")
+    if vtk:
+        print(vtk)
 
 
 def _lobed_csv(br, path, column, scale) -> None:
@@ -474,6 +634,10 @@ def main(argv=None) -> int:
 
     if hasattr(a, "tol") and not (0 < a.tol < 1):
         p.exit(2, f"shellbvp: error: --tol must lie in (0, 1), got {a.tol!r}\n")
+    try:
+        _vtk_folder(a)
+    except _BadOption as exc:
+        p.exit(2, f"shellbvp: error: {exc}\n")
     if a.command == "postbuckling":       # the spellings given, for the messages
         given = argv if argv is not None else sys.argv[1:]
         for dest, names in (("p_min", ("--p-min", "--kappa-min")),
@@ -507,7 +671,7 @@ def main(argv=None) -> int:
         if a.command == "postbuckling":
             bounds = _bounds(a, (0.0, None), f"where the cap's branch starts; "
                                              f"{a.p_min_name}=-inf removes it")
-        if sys.stderr.isatty():    # bad input has been reported above, in one line
+        if not _quiet(a):    # bad input has been reported above, in one line
             print("shellbvp: preparing the solver (tracing and compiling it for this model "
                   "takes ~10-30 s once per process)...", file=sys.stderr, flush=True)
         if a.command == "snap":

@@ -126,7 +126,7 @@ def _rising(low: dict, n: int) -> bool:
 
 
 def first_instability(branch: Branch, *, degree: int | None = None, tol: float = 1e-6,
-                      n_scan: int = N_SCAN) -> Instability:
+                      n_scan: int = N_SCAN, progress=None) -> Instability:
     """The first instability along ``branch`` (module docstring).
 
     Arguments:
@@ -135,6 +135,8 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
         degree: Chebyshev degree of the perturbations (default ``DEGREE``).
         tol: relative tolerance of the located parameter value.
         n_scan: harmonics always scanned, 0..n_scan (>= RISING).
+        progress: called as ``progress(checked, points)`` after each point's harmonics are
+            checked (the scan stops at the first unstable point).
 
     Raises:
         ValueError: bad arguments (n_scan below RISING, tol outside (0, 1), an empty branch).
@@ -167,6 +169,8 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
                                f"be evaluated from {name} = {eq.p:.6g} on ({exc}): stable "
                                f"up to {name} = {last_scanned.p:.6g}, not checked beyond")
         last_scanned = eq
+        if progress is not None:
+            progress(i + 1, len(branch.points))
         rows.append((eq.p, eq.w, low))
         neg = {n: mu for n, mu in low.items() if mu < 0}
         if neg and i == 0:

@@ -228,6 +228,34 @@ class LobedBranch:
             return self.p_c
         return self.folds[0].p if self.folds else math.nan
 
+    def plot3d(self, i: int, field: str = "lobe_normal_displacement", ax=None, **options):
+        """The lobed state at point i in 3D, a sector cut away, coloured by ``field``
+        (:func:`shellbvp.pictures.plot_lobed3d`: the fields, ``cut``, ``magnify`` of the
+        lobes, ``units``); returns the 3D axes."""
+        from .pictures import plot_lobed3d
+
+        return plot_lobed3d(self.discretisation, self.states[self._index(i)], self.p[i],
+                            field, ax, **options)
+
+    def animate(self, path, **options) -> None:
+        """Write the lobed states in 3D beside the branch's diagram as a GIF or MP4
+        (:func:`shellbvp.pictures.animate_lobed`)."""
+        from .pictures import animate_lobed
+
+        animate_lobed(self, path, **options)
+
+    def to_vtk(self, folder, **options):
+        """Write every lobed state as a ParaView file in ``folder`` and their collection
+        ``lobed.pvd`` (:func:`shellbvp.paraview.write_lobed_branch`); returns its path."""
+        from .paraview import write_lobed_branch
+
+        return write_lobed_branch(self, folder, **options)
+
+    def _index(self, i) -> int:
+        if not (isinstance(i, (int, np.integer)) and -len(self.states) <= i < len(self.states)):
+            raise ValueError(f"i must index the branch's {len(self.states)} states, got {i!r}")
+        return int(i)
+
     def columns(self) -> dict:
         """The branch as named columns (p, the amplitude, |y_k| per harmonic k)."""
         out = {self.parameter: self.p, "amplitude": self.amplitude}

@@ -123,6 +123,21 @@ class Equilibrium:
         return plot_equilibrium(self, ax, strains=strains, mirror=mirror, origin=origin,
                                 label=label, color=color)
 
+    def plot3d(self, field: str = "normal_displacement", ax=None, **options):
+        """The deformed surface in 3D, a sector cut away, coloured by ``field`` with a
+        colour bar (:func:`shellbvp.pictures.plot3d`: the fields, ``cut``, ``magnify``,
+        ``view``, ``units``); returns the 3D axes."""
+        from .pictures import plot3d
+
+        return plot3d(self, field, ax, **options)
+
+    def to_vtk(self, path, **options) -> None:
+        """Write the surface and its fields to a ParaView file ``path`` (``.vtu``),
+        atomically (:func:`shellbvp.paraview.write_equilibrium`: ``omega``, ``units``)."""
+        from .paraview import write_equilibrium
+
+        write_equilibrium(self, path, **options)
+
     def unknowns(self, s):
         """The BVP's unknowns (r, z, theta, m, f_r, f_z) at s (m, f = 12/h^2 M, F): a guess
         for another solve."""
@@ -145,10 +160,13 @@ def _resolution(stats: dict) -> str:
     return f"{method}, {size}" if size else str(method)
 
 
-def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Equilibrium:
-    """The :class:`Equilibrium` of a converged discrete solution U at p."""
+def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan,
+                     energies: bool = True) -> Equilibrium:
+    """The :class:`Equilibrium` of a converged discrete solution U at p (``energies=False``:
+    the energies nan, not integrated; the shape, strains and stress resultants alone, at a
+    third of the cost: pictures and files of every point of a branch)."""
     if implements(system, MidSurface):
-        return _equilibrium_of_surface(system, U, p, stats, error_estimate)
+        return _equilibrium_of_surface(system, U, p, stats, error_estimate, energies)
     bvp = system.bvp
     sc = bvp.scene
     t, Ys = system.nodes(U, p)
@@ -179,8 +197,10 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
     z_pole = y[1, 0] + y[0, 0] * y[2, 0] / 2 if bvp.poles[0] else math.nan
     m, _, _ = bvp.monitor(Y[0, :, 0], Y[-1, :, -1])
     message = "converged"
+    Es = Eb = Ep = math.nan
     try:
-        Es, Eb, Ep = bvp.energies(dense_t, p, None if roots is None else (t, roots))
+        if energies:
+            Es, Eb, Ep = bvp.energies(dense_t, p, None if roots is None else (t, roots))
     except ConvergenceError as exc:
         # the quadrature needs the state between the nodes, where next to a loss of
         # ellipticity the interpolated meridian may have no elliptic inner root: the shape
@@ -200,7 +220,7 @@ def equilibrium_from(system, U, p, *, stats=None, error_estimate=math.nan) -> Eq
         load_potential=float(Ep), N1=thick * gw[0] / X[1], N2=thick * gw[1] / X[0])
 
 
-def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
+def _equilibrium_of_surface(system, U, p, stats, error_estimate, energies) -> Equilibrium:
     """The :class:`Equilibrium` of a :class:`shellbvp.methods.base.MidSurface` solution: the
     state read from the mid-surface at the method's own points (no inner inversion), the
     energies by its own quadrature, the force F_r from its multipliers."""
@@ -208,7 +228,7 @@ def _equilibrium_of_surface(system, U, p, stats, error_estimate) -> Equilibrium:
     st = system.state_at(U, p, system.output_points())
     X, F = st["X"], st["F"]
     legendre, block, full = ellipticity(X.T, st["gw"], st["Hw"], sc.h)
-    Es, Eb, Ep = system.energies(U, p)
+    Es, Eb, Ep = system.energies(U, p) if energies else (math.nan,) * 3
     m, _ = system.monitor(U)
     return Equilibrium(
         scene=sc, p=float(p), s=st["s"], r=st["r"], z=st["z"], theta=st["theta"],
@@ -354,12 +374,13 @@ class Branch:
                 + (f" at {name} = {folds}" if folds else "")
                 + (f", stopped: {self.stop}" if self.stop else "") + ")")
 
-    def equilibrium(self, i: int) -> Equilibrium:
-        """The equilibrium at point i of the branch."""
+    def equilibrium(self, i: int, *, energies: bool = True) -> Equilibrium:
+        """The equilibrium at point i of the branch (``energies=False``: without them,
+        :func:`equilibrium_from`)."""
         if not -len(self.points) <= i < len(self.points):
             raise ValueError(f"i must index the branch's {len(self.points)} points, got {i!r}")
         pt = self.points[i]
-        return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats)
+        return equilibrium_from(self.system, pt.U, pt.p, stats=self.stats, energies=energies)
 
     def plot(self, ax=None, *, instability=None, label: str | None = None):
         """The parameter against w, folds marked, and an instability of the branch if given
@@ -367,6 +388,22 @@ class Branch:
         from .plotting import plot_branch
 
         return plot_branch(self, ax, instability=instability, label=label)
+
+    def animate(self, path, **options) -> None:
+        """Write the branch's states in 3D beside its diagram, the current point marked, as
+        a GIF or MP4 ``path`` (:func:`shellbvp.pictures.animate`: ``field``, ``frames``,
+        ``fps``, ``magnify``, ``progress``, ...)."""
+        from .pictures import animate
+
+        animate(self, path, **options)
+
+    def to_vtk(self, folder, **options):
+        """Write every point as a ParaView file in ``folder`` and their collection
+        ``branch.pvd`` (:func:`shellbvp.paraview.write_branch`: ``name``, ``units``,
+        ``time``); returns the collection's path."""
+        from .paraview import write_branch
+
+        return write_branch(self, folder, **options)
 
     def rows(self, errors: bool = False):
         """Table rows (p, w, E, E_s, E_b, arclength, is_fold), folds merged in order; with

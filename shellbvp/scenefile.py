@@ -612,18 +612,22 @@ class SceneFile:
         branch = run(options, report, at, estimate_errors)
         return SceneBranch.of(self, branch, folds, at)
 
-    def first_instability(self, *, tol: float = 1e-6) -> "SceneInstability":
+    def first_instability(self, *, tol: float = 1e-6, progress: Callable | None = None,
+                          checked: Callable | None = None) -> "SceneInstability":
         """The first instability along the branch from ``from`` (to its first fold, or to
         ``to``): the fold or a bifurcation into n circumferential waves
         (:func:`shellbvp.first_instability`), in the parameter's units.
 
         Arguments:
             tol: relative tolerance of a bifurcation's parameter value, in (0, 1).
+            progress: called as ``progress(p)`` after every point of the branch (as in
+                :meth:`follow`); checked: as ``checked(done, points)`` after each point's
+                harmonics are checked.
         """
         from .instability import first_instability
 
-        branch = self._follow(1, estimate_errors=False).branch
-        found = first_instability(branch, tol=tol)
+        branch = self._follow(1, progress, estimate_errors=False).branch
+        found = first_instability(branch, tol=tol, progress=checked)
         none = found.kind == "none"
         return SceneInstability(
             kind=found.kind, n=None if none else int(found.n),

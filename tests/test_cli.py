@@ -23,8 +23,14 @@ from shellbvp import cli
     (["stability", "--h", "2"], "h must lie in (1e-06, 1)"),
     (["stability", "--method", "shooting"], "unrecognized arguments"),
     ([], "command"),
+    # a --vtk folder that cannot be written: refused before anything is computed
+    (["follow", "disc-spring", "--vtk", "{file}"], "not a folder"),
+    (["follow", "disc-spring", "--vtk", "{file}/sub"], "cannot write there"),
+    (["postbuckling", "--vtk", "{file}/sub"], "cannot write there"),
 ])
-def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
+def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys, tmp_path):
+    (tmp_path / "a-file").write_text("x")
+    argv = [a.format(file=tmp_path / "a-file") for a in argv]
     with pytest.raises(SystemExit) as e:
         cli.main(argv)
     assert e.value.code == 2
@@ -34,11 +40,56 @@ def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
 
 def test_help_everywhere(capsys):
     for argv in (["--help"], ["snap", "--help"], ["branch", "--help"], ["sweep", "--help"],
-                 ["stability", "--help"]):
+                 ["stability", "--help"], ["follow", "--help"], ["postbuckling", "--help"]):
         with pytest.raises(SystemExit) as e:
             cli.main(argv)
         assert e.value.code == 0
-    assert "--theta" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "--theta" in out and "--vtk DIR" in out and "--quiet" in out
+
+
+def test_help_says_what_it_is_and_version(capsys):
+    """The top-level help describes any shell of revolution and scene files, not only the
+    everting caps; --version prints the installed version."""
+    import shellbvp
+
+    with pytest.raises(SystemExit):
+        cli.main(["--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "shells of revolution" in out and "scene file" in out
+    for command in ("follow", "stability", "postbuckling", "snap", "branch", "sweep"):
+        assert command in out
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--version"])
+    assert e.value.code == 0
+    assert capsys.readouterr().out.strip() == f"shellbvp {shellbvp.__version__}"
+
+
+def test_progress_counts_points_and_folds_and_is_quiet_off_a_terminal(monkeypatch):
+    """The bar of a continuation: a fold each time the parameter turns back; no bar with
+    --quiet or where stderr is not a terminal (then standard output is the results
+    alone)."""
+    import argparse
+    import io
+    import sys
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    for quiet, tty, shown in ((False, True, True), (True, True, False),
+                              (False, False, False)):
+        err = Terminal() if tty else io.StringIO()
+        monkeypatch.setattr(sys, "stderr", err)
+        with cli._Progress(argparse.Namespace(quiet=quiet), "branch", "q", " N/mm") as bar:
+            for p in (0.0, 1.0, 2.0, 1.5, 1.0, 1.2):      # up, back (a fold), up (another)
+                bar(p)
+        assert bar.folds == 2
+        if shown:
+            assert bar.bar.n == 6 and bar.bar.postfix == "q = 1.2 N/mm, 2 fold(s)"
+            assert "shellbvp: branch" in err.getvalue()
+        else:
+            assert bar.bar.disable and err.getvalue() == ""
 
 
 def test_branch_command_writes_csv(tmp_path, capsys):

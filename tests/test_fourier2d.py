@@ -304,6 +304,89 @@ def test_refusals():
             Fourier2D(eq, n, K, **bad)
 
 
+
+# --- its pictures and files: the lobed state's surface (shellbvp.surface) -------------------
+def test_the_lobed_surface_is_the_2d_field(tmp_path):
+    """The surface drawn and written for a lobed state against the discretisation's own
+    synthesis of it (``state``: the JAX map from y to the local numbers at the Gauss
+    points, through its derivative operators): its lobes (harmonics n..K n; the part
+    of harmonic 0 left out) at the nodes of the base equilibrium, from Chebyshev series
+    fitted here to that synthesis per angle of the rule (exact: polynomials of the
+    degree), and their normal displacement along the base's normal; the file has the
+    same; with no displacement the strains are the equilibrium's."""
+    import meshio
+
+    from shellbvp.paraview import write_surface
+    from shellbvp.surface import lobed_surface
+
+    f = f2d(4.0)
+    eq = f.eq
+    y = smooth_state(f, (2e-3, 2e-2, 1e-2))
+    lobes = y.copy()
+    lobes[f.block(0)] = 0.0
+    lobes[f.ny:] = 0.0
+    dx = f.state(lobes)[..., :3] - f.x0[0].T[:, None, :]            # (P m, J, 3) local
+    (a, b), = f.base.pieces
+    x = (2 * eq.s - a - b) / (b - a)
+    xg = (2 * f.base.s[0] - a - b) / (b - a)
+    fitted = np.stack([[C.chebval(x, C.chebfit(xg, dx[:, j, c], f.degree))
+                        for c in range(3)] for j in range(f.w.size)])   # (J, 3, nodes)
+    M = f.n * f.points                      # the rule's angles are the first J of the ring
+    S = lobed_surface(f, y, eq.p, omega=M)
+    assert np.allclose(S.omega[:f.w.size], f.w, rtol=0, atol=1e-15)
+    v = S.fields["lobe_displacement"][:, :f.w.size]                    # (nodes, J, 3)
+    c, s = np.cos(f.w), np.sin(f.w)
+    local = np.stack([v[..., 0] * c + v[..., 1] * s, -v[..., 0] * s + v[..., 1] * c,
+                      v[..., 2]]).transpose(2, 0, 1)                  # (J, 3, nodes)
+    scale = np.abs(fitted).max()
+    assert scale > 1e-3 and np.abs(local - fitted).max() < 1e-11 * scale
+    normal = fitted[:, 0] * np.sin(eq.theta) + fitted[:, 2] * np.cos(eq.theta)
+    assert np.abs(S.fields["lobe_normal_displacement"][:, :f.w.size] - normal.T).max() \
+        < 1e-11 * scale
+    write_surface(S, tmp_path / "lobed.vtu")
+    back = meshio.read(tmp_path / "lobed.vtu").point_data["lobe_normal_displacement"]
+    assert np.allclose(back.reshape(S.s.size, M), S.fields["lobe_normal_displacement"],
+                       rtol=1e-6, atol=1e-7 * scale)
+    rest = lobed_surface(f, f.origin, eq.p, omega=8)
+    for name in ("eps11", "eps22"):
+        assert np.abs(rest.fields[name] - getattr(eq, name)[:, None]).max() < 1e-13
+    assert np.abs(rest.fields["eps12"]).max() < 1e-15
+
+
+def test_a_lobed_branch_draws_writes_and_animates_its_states(tmp_path):
+    """A LobedBranch of three states of this discretisation (made here: the delegations
+    need no continuation): a picture of one, the collection of all, an animation."""
+    import xml.etree.ElementTree as ET
+
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from shellbvp.postbuckling import LobedBranch
+
+    matplotlib.use("Agg")
+    f = f2d(4.0)
+    rng = np.random.default_rng(5)        # smooth lobes: Chebyshev coefficients ~ 1/j^3
+    decay = lambda Z: 1.0 / (1 + np.arange(Z.shape[0]) % (f.degree + 1)) ** 3  # noqa: E731
+    shape = f.reduce([(k > 0) * decay(Z) * rng.standard_normal(Z.shape[0])
+                      for k, Z in zip(f.ks, f.Z)])
+    ys = tuple(f.origin + a * shape for a in (1e-3, 1e-2, 3e-2))
+    br = LobedBranch(n=f.n, K=f.K, degree=f.degree, parameter="kappa", koiter=None,
+                     p_c=f.eq.p, p_c_error=0.0, p=np.full(3, f.eq.p),
+                     amplitude=np.array([1e-3, 1e-2, 3e-2]), harmonics=np.zeros((3, f.K + 1)),
+                     folds=(), stop="", discretisation=f, states=ys)
+    ax = br.plot3d(2, magnify=3)
+    assert "lobes' normal displacement" in ax.figure.axes[-1].get_ylabel()
+    plt.close("all")
+    with pytest.raises(ValueError, match="i must index the branch's 3 states, got 3"):
+        br.plot3d(3)
+    with pytest.raises(ValueError, match=r"field must be one of .*lobe_normal_displacement"):
+        br.plot3d(0, "N1")                  # a lobed state has no stress resultants here
+    pvd = br.to_vtk(tmp_path / "lobed", omega=24)
+    files = [d.get("file") for d in ET.parse(pvd).getroot().iter("DataSet")]
+    assert len(files) == 3 and all((tmp_path / "lobed" / name).is_file() for name in files)
+    br.animate(tmp_path / "lobed.gif", frames=2, dpi=20, progress=False)
+    assert (tmp_path / "lobed.gif").stat().st_size > 0
+
 @pytest.mark.slow
 def test_pressurised_half_sphere_with_its_lid():
     """A follower pressure on the upper half of a sphere (Koiter, R = 1, h = 0.01) with a

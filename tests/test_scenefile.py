@@ -361,11 +361,28 @@ def _cli(*argv, cwd=None, env=None):
                           text=True, cwd=cwd, env=env)
 
 
-def test_cli_follow_json_and_csv(tmp_path):
-    out = _cli("follow", "disc-spring", "--json", "--csv", str(tmp_path / "d.csv"))
+def test_cli_follow_json_csv_and_vtk(tmp_path):
+    """One JSON object on stdout (the ParaView files and any progress never in it), the
+    CSV, and the ParaView collection of the branch in the file's units (mm, N/mm)."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
+
+    out = _cli("follow", "disc-spring", "--json", "--csv", str(tmp_path / "d.csv"),
+               "--vtk", str(tmp_path / "vtk"))
     assert out.returncode == 0, out.stderr
     lines = out.stdout.strip().splitlines()
     assert len(lines) == 1
+    sets = list(ET.parse(tmp_path / "vtk" / "branch.pvd").getroot().iter("DataSet"))
+    table = [r.split(",") for r in (tmp_path / "d.csv").read_text().splitlines()]
+    fold_column = table[0].index("is_fold")
+    points = [float(r[0]) for r in table[1:] if r[fold_column] == "0"]  # q of every point
+    assert [float(d.get("timestep")) for d in sets] == pytest.approx(points, rel=1e-12)
+    last = meshio.read(tmp_path / "vtk" / sets[-1].get("file"))
+    radius = np.hypot(last.points[:, 0], last.points[:, 1])
+    assert radius.min() == pytest.approx(25.0, rel=0.01) and radius.max() == \
+        pytest.approx(50.0, rel=0.01)                    # the spring's edges, in mm
+    assert np.all(last.point_data["q"] == pytest.approx(points[-1], rel=1e-12))
     result = json.loads(lines[0])
     assert set(result) == {"folds", "at", "last", "stop", "complete", "missing", "error_note"}
     assert result["stop"] == "after 1 fold(s)" and result["complete"]

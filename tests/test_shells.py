@@ -184,8 +184,8 @@ def test_annular_plate_formula_reduces_to_the_solid_plate():
 def test_annular_plate_free_inside_clamped_outside(hole, method):
     """Annular plate a = 0.3 <= r <= b = 1, inner edge free, outer clamped, under pressure:
     the inner edge's deflection and slope against the closed form of :func:`annular_plate`.
-    At a free end the pressure acts as if a lid closed the shell there (README, Known
-    limits): the inner edge carries P pi a^2. "open" cancels it with an upward line load
+    At a free end the pressure acts as if a lid closed the shell there (docs/limits.md):
+    the inner edge carries P pi a^2. "open" cancels it with an upward line load
     P a / 2 per unit length: the classical annulus with an open hole.
 
     p = 1e-8 gives w/h = 8e-4: geometric nonlinearity O((w/h)^2) ~ 1e-6; tolerance 1e-5."""
@@ -269,7 +269,7 @@ def test_cylinder_clamped_at_both_ends_under_pressure(method):
 @pytest.mark.parametrize("top", [pytest.param("lid", marks=SLOW), "open"])
 def test_cylinder_clamped_below_free_above_under_pressure(top, method):
     """Cylinder clamped at its lower end, its upper end free, under internal pressure P. At
-    a free end the pressure acts as if a lid closed the shell (README, Known limits): the
+    a free end the pressure acts as if a lid closed the shell (docs/limits.md): the
     closed vessel, N_x = P R / 2, N_theta = P R, so at mid-length (Hooke, plane stress)
 
         lid:  eps_theta = P R (1 - nu / 2) / (E h),   eps_x = P R (1/2 - nu) / (E h).
@@ -427,7 +427,7 @@ def test_closed_ellipsoid_approaches_its_membrane_state_like_h_squared(method):
     stiffness, a wrong pole condition) would not vanish with h. One resolution for both
     thicknesses (the default's for h = 0.005). The energy method on 8 elements per piece: on
     the default 2 its reference's interpolation error near the first pole (~2e-9 in the
-    strains at p = 0, README Known limits) is 1 % of these strains (~2e-7)."""
+    strains at p = 0, docs/limits.md) is 1 % of these strains (~2e-7)."""
     coarse = ellipsoid_deviation(0.01, method)
     fine = ellipsoid_deviation(0.005, method)
     assert coarse < 3e-3
