@@ -111,13 +111,16 @@ def band_centre(p, theta, band, delta):
 
 def wave(x, p, c):
     """The travelling band (module docstring): c = (Theta, W, delta, k_band, k_after);
-    returns (g1, g2, kb1, kb2). Traced by JAX: array arithmetic, and tanh from the array
-    module of s (numpy or jax.numpy, by the array API)."""
-    xp = x.s.__array_namespace__()
+    returns (g1, g2, kb1, kb2). Traced by JAX (in s, in p, or both): array arithmetic, and
+    tanh from the array module of the step's argument (numpy or jax.numpy, by the array
+    API; the argument is traced wherever s or p is)."""
     theta, band, delta, k_band, k_after = c[0], c[1], c[2], c[3], c[4]
     sf = band_centre(p, theta, band, delta)
-    enter = 0.5 * (1 + xp.tanh((x.s - (sf - band / 2)) / delta))    # 1 behind the band's front
-    leave = 0.5 * (1 + xp.tanh((x.s - (sf + band / 2)) / delta))    # 1 behind its back
+    front = (x.s - (sf - band / 2)) / delta + 0.0 * x.s
+    back = front - band / delta
+    xp = front.__array_namespace__()
+    enter = 0.5 * (1 + xp.tanh(front))          # 1 behind the band's front
+    leave = 0.5 * (1 + xp.tanh(back))           # 1 behind its back
     one = 0.0 * x.s + 1.0
     k1 = x.k1 + (k_band - x.k1) * enter + (k_after - k_band) * leave
     k2 = x.k2 + (k_band - x.k2) * enter + (k_after - k_band) * leave
