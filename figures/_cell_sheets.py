@@ -137,6 +137,17 @@ def mark_instability(ax, r: dict, color, key: str = "w_over_H") -> None:
                     textcoords="offset points")
 
 
+def plot_branch(ax, r: dict, y: str, *, fold_size: float = 5) -> None:
+    """A case's branch on a branch panel: the stage against ``r[y]`` in its material's
+    style, its folds (o), where it stopped (x) and its first bifurcation (D)."""
+    (line,) = ax.plot(r["stage"], r[y], STYLES[r["material"]], lw=1.3, label=r["label"])
+    for st, w, _ in r["folds"]:
+        ax.plot(st, w, "o", color=line.get_color(), ms=fold_size)
+    if r["stop"]:
+        ax.plot(r["stage"][-1], r[y][-1], "x", color=line.get_color(), ms=7)
+    mark_instability(ax, r, line.get_color())
+
+
 def write_checks(out, stem: str, rows) -> None:
     """``out/stem_checks.csv`` from (check, value, tolerance, pass) rows."""
     from _common import write_csv

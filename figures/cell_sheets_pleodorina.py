@@ -35,8 +35,8 @@ import math
 import time
 
 import numpy as np
-from _cell_sheets import (Clock, STYLES, equal_3d, instability_record, mark_instability,
-                          report_checks, report_details, script_main, surface, write_checks)
+from _cell_sheets import (Clock, equal_3d, instability_record, plot_branch, report_checks,
+                          report_details, script_main, surface, write_checks)
 from _common import finish, pyplot, write_csv
 import shellbvp
 from shellbvp.problems import pleodorina as P
@@ -156,14 +156,8 @@ def figure(res: dict, out) -> None:
     plt = pyplot()
     fig = plt.figure(figsize=(11, 7.6))
     ax = fig.add_subplot(2, 2, 1)
-    for label, r in res.items():
-        (line,) = ax.plot(r["stage"], r["w_over_H"], STYLES[r["material"]], lw=1.3,
-                          label=label)
-        for st, w, _ in r["folds"]:
-            ax.plot(st, w, "o", color=line.get_color(), ms=4)
-        if r["stop"]:
-            ax.plot(r["stage"][-1], r["w_over_H"][-1], "x", color=line.get_color(), ms=7)
-        mark_instability(ax, r, line.get_color())
+    for r in res.values():
+        plot_branch(ax, r, "w_over_H", fold_size=4)
     ax.set_xlabel("stage of the wave (0: at the rim, 1: past the pole)")
     ax.set_ylabel("rim rise w / H (1: inverted)")
     ax.set_xlim(0, 1.05)

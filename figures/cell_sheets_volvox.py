@@ -32,9 +32,8 @@ import math
 import time
 
 import numpy as np
-from _cell_sheets import (Clock, STYLES, equal_3d, instability_record, mark_instability,
-                          report_checks, report_details, script_main, self_contact, surface,
-                          write_checks)
+from _cell_sheets import (Clock, equal_3d, instability_record, plot_branch, report_checks,
+                          report_details, script_main, self_contact, surface, write_checks)
 from _common import finish, pyplot, write_csv
 import shellbvp
 from shellbvp.methods import default_nodes
@@ -165,13 +164,8 @@ def figure(res: dict, out) -> None:
     plt = pyplot()
     fig = plt.figure(figsize=(11, 7.6))
     ax = fig.add_subplot(2, 2, 1)
-    for label, r in res["cases"].items():
-        (line,) = ax.plot(r["stage"], r["w"], STYLES[r["material"]], lw=1.3, label=label)
-        for st, w, _ in r["folds"]:
-            ax.plot(st, w, "o", color=line.get_color(), ms=5)
-        if r["stop"]:
-            ax.plot(r["stage"][-1], r["w"][-1], "x", color=line.get_color(), ms=7)
-        mark_instability(ax, r, line.get_color())
+    for r in res["cases"].values():
+        plot_branch(ax, r, "w")
     ax.set_xlabel("stage (0: the sphere, 1: the full cell-shape changes)")
     ax.set_ylabel("invagination w / R")
     ax.grid(alpha=0.3)
