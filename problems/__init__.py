@@ -4,7 +4,10 @@
 * :mod:`.closed_sphere`: homogeneous radius change of a closed sphere (Section 5.3);
 * :mod:`.budding`: budding of a clamped cap under a localized stimulus (Section 5.4);
 * :mod:`.pressure_cap`: clamped caps under external pressure, the classical snap-through
-  benchmark (Budiansky 1959; Teng & Rotter 1989), beyond the paper.
+  benchmark (Budiansky 1959; Teng & Rotter 1989), beyond the paper;
+* :mod:`.volvox` and :mod:`.pleodorina`: the cell sheets that motivate the paper, a
+  spherical embryo whose bend region and contracting posterior start its inversion, and a
+  bowl turned inside out by a travelling wave of cell wedging (docs: Cell sheets).
 
 A scene is data (geometry, stimulus, material, boundary conditions) handed to the public
 ``shellbvp`` API; it adds no solver of its own.
