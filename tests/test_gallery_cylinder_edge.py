@@ -15,7 +15,7 @@ import pytest
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), os.pardir, "figures"))
 
 import gallery_cylinder_edge as case  # noqa: E402
-from problems import thin_shells  # noqa: E402
+from shellbvp.problems import thin_shells  # noqa: E402
 
 
 def test_published_table_is_the_beam_on_elastic_foundation():
