@@ -31,14 +31,24 @@ import math
 from dataclasses import dataclass
 
 import shellbvp
-from shellbvp import End, Scene
-from shellbvp.geometry import cylinder, disc, spherical_cap
+from shellbvp import End, Scene, cylinder, disc, spherical_cap
 
 __all__ = ["hemisphere", "reissner_stiffness", "pole_stiffness", "PoleStiffness",
            "long_cylinder", "cylinder_edge", "plate", "plate_deflection", "NU"]
 
 #: Poisson ratio of the steel-like shells of the closed forms
 NU = 0.3
+
+
+def _down(P):
+    """A downward point force P (the load functions are module-level: the compiled kernels
+    are keyed by them, so a new scene of another thickness reuses them)."""
+    return -P
+
+
+def _same(p):
+    """The parameter itself, as a pressure."""
+    return p
 
 
 def _modulus(nu: float) -> float:
@@ -56,9 +66,9 @@ def hemisphere(R_over_t: float, *, nu: float = NU, load: str = "pole force") -> 
     h = 1.0 / float(R_over_t)
     if load == "pole force":
         return Scene(geometry=spherical_cap(math.pi / 2), h=h, material="koiter", nu=nu,
-                     ends=(End("pole", force=lambda P: -P), "clamped"), parameter="P")
+                     ends=(End("pole", force=_down), "clamped"), parameter="P")
     return Scene(geometry=spherical_cap(math.pi / 2), h=h, material="koiter", nu=nu,
-                 ends=("pole", "symmetry"), pressure=lambda p: p, parameter="p")
+                 ends=("pole", "symmetry"), pressure=_same, parameter="p")
 
 
 def reissner_stiffness(R_over_t: float, nu: float = NU) -> float:
@@ -111,7 +121,7 @@ def long_cylinder(L_over_sqrt_Rt: float, R_over_t: float, *, nu: float = NU) -> 
     h = 1.0 / float(R_over_t)
     L = float(L_over_sqrt_Rt) * math.sqrt(h)
     return Scene(geometry=cylinder(1.0, L), h=h, material="koiter", nu=nu,
-                 ends=("clamped", "symmetry"), pressure=lambda p: p, parameter="p",
+                 ends=("clamped", "symmetry"), pressure=_same, parameter="p",
                  monitor="ur(second)")
 
 
@@ -133,7 +143,7 @@ def plate(a_over_t: float, *, edge: str = "clamped", nu: float = NU) -> Scene:
     if edge not in ("clamped", "hinged"):
         raise ValueError(f"edge must be 'clamped' or 'hinged', got {edge!r}")
     return Scene(geometry=disc(1.0), h=1.0 / float(a_over_t), material="koiter", nu=nu,
-                 ends=("pole", edge), pressure=lambda p: p, parameter="p")
+                 ends=("pole", edge), pressure=_same, parameter="p")
 
 
 def plate_deflection(p: float, a_over_t: float, *, edge: str = "clamped",
