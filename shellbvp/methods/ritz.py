@@ -63,7 +63,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..mesh import mesh_of, singular_poles
+from ..mesh import loaded_pole_ratio, mesh_of, singular_poles
 from ..scene import load_rate
 from .chebyshev import chebyshev_points, differentiation_matrix
 
@@ -368,8 +368,6 @@ class RitzSystem:
     #: relative error of the Jacobian: round-off (JAX's exact derivatives)
     jacobian_error = 0.0
     dense_jacobian = False
-    #: p-refinement on a geometric mesh converges exponentially (:class:`Discretisation`)
-    rung_ratio = 0.0
 
     def __init__(self, bvp, method: Ritz):
         sc = bvp.scene
@@ -1122,6 +1120,14 @@ class RitzSystem:
 
     def refined(self) -> "RitzSystem":
         return self.with_degree(self.q + REFINE_STEP)
+
+    @property
+    def rung_ratio(self) -> float:
+        """The error's factor per rung (:class:`~.base.Discretisation`): 0 where p-refinement
+        converges exponentially (elements graded geometrically into every singularity);
+        at a point-loaded pole without such layers, algebraic
+        (:func:`shellbvp.mesh.loaded_pole_ratio`)."""
+        return 0.0 if self.layers else loaded_pole_ratio(self.scene, self.q, REFINE_STEP)
 
     def for_tolerance(self, tol: float) -> "RitzSystem":
         return self
