@@ -1,0 +1,194 @@
+"""Branch points of an axisymmetric branch (n = 0 without a fold): located on the discrete
+system with an error estimate (shellbvp.continuation.branch_points), reported by
+first_instability as an axisymmetric bifurcation.
+
+Reference: the simply supported circular plate (radius a, free to slide radially: a roller
+end) under the uniform radial edge compression q (force per unit edge length) buckles
+axisymmetrically where x = sqrt(q a^2 / D) solves x J0(x) - (1 - nu) J1(x) = 0 (Timoshenko
+& Gere, *Theory of Elastic Stability*, 2nd ed., Sec. 8.2: q_cr a^2 / D = 4.198 at
+nu = 0.3). Kirchhoff's theory drops the membrane prebuckling strain, of relative order
+(t/a)^2: the located value must approach the Bessel root like (t/a)^2.
+"""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+from scipy.special import j0, j1
+
+import shellbvp
+from shellbvp import End, Scene
+from shellbvp.continuation.branch_points import (locate_branch_point,
+                                                 null_vectors, refine_branch_point,
+                                                 test_function as bordered_test)
+from shellbvp.errors import ConvergenceError
+from shellbvp.geometry import disc
+
+NU = 0.3
+
+
+def bessel_root(nu=NU):
+    """x^2 = q_cr a^2 / D of the simply supported plate (module docstring)."""
+    x = brentq(lambda x: x * j0(x) - (1.0 - nu) * j1(x), 1.0, 3.0, xtol=1e-15)
+    return x * x
+
+
+def test_bessel_root_is_the_book_value():
+    # mpmath at 30 digits: x = 2.048850203642126, x^2 = 4.197787156964382
+    assert bessel_root() == pytest.approx(4.197787156964382, abs=1e-13)
+    assert round(bessel_root(), 3) == 4.198
+
+
+def plate_under_edge_compression(a_over_t, nu=NU):
+    """The plate of radius 1 on a roller edge (z held, r free, no moment) under the inward
+    radial line load q (per mu h): the parameter."""
+    return Scene(geometry=disc(1.0), h=1.0 / a_over_t, material="koiter", nu=nu,
+                 ends=("pole", End("roller", radial=lambda q: -q)), parameter="q")
+
+
+def load_factor(a_over_t, nu=NU):
+    """q a^2 / D per engine unit of q (q per mu h, D per mu a^3): 6 (1 - nu) (a/t)^2."""
+    return 6.0 * (1.0 - nu) * a_over_t ** 2
+
+
+# ---- a two-unknown pitchfork: R = (a - p^2, (a - 1) b + b^3) -----------------------------------
+class Pitchfork:
+    """The trivial branch a = p^2, b = 0 has a branch point at p = 1 (null vector (0, 1)); rows
+    and unknowns scaled by ``scale`` to show that the borders do not depend on the scaling.
+    ``stall``: Newton fails inside that interval of p (a solver that gives up)."""
+
+    size = 2
+
+    def __init__(self, scale=(1.0, 1.0), stall=None):
+        self.scale, self.stall = np.asarray(scale, float), stall
+
+    def evaluate(self, U, p):
+        if self.stall is not None and self.stall[0] < p < self.stall[1]:
+            raise ConvergenceError("a solver that gives up here")
+        a, b = U / self.scale
+        R = np.array([a - p * p, (a - 1.0) * b + b ** 3]) * self.scale[::-1] ** 3
+        J = np.array([[1.0, 0.0], [b, a - 1.0 + 3 * b * b]]) * np.outer(
+            self.scale[::-1] ** 3, 1.0 / self.scale)
+        Rp = np.array([-2.0 * p, 0.0]) * self.scale[::-1] ** 3
+        return R, J, Rp
+
+    def monitor(self, U):
+        return float(U[1] / self.scale[1]), np.array([0.0, 1.0 / self.scale[1]])
+
+
+def test_pitchfork_located_to_round_off_with_its_null_vectors():
+    sys = Pitchfork(scale=(1e-6, 1e4))
+    U = lambda p: np.array([p * p * 1e-6, 0.0])          # noqa: E731
+    bp = locate_branch_point(sys, 0.7, 1.2, known=[(0.7, U(0.7))], xtol=1e-13)
+    assert bp.converged and bp.p == pytest.approx(1.0, abs=1e-12)
+    assert bp.bracket[0] <= bp.p <= bp.bracket[1]
+    assert bp.error_estimate <= 2e-13
+    # the null vector is the b direction, whatever the scaling of the rows and unknowns
+    assert abs(bp.null[0]) < 1e-12 and bp.null[1] == 1.0
+    assert abs(bp.left[0]) < 1e-12 and abs(bp.left[1]) == 1.0
+
+
+def test_borders_do_not_depend_on_the_scaling():
+    # J = diag(1e12, p - 1) at p = 0.9: the smallest singular vector of J is the second one
+    # only because of the scale; with the first row scaled down it would not be
+    J = np.diag([1e-12, -0.1])
+    dJ = np.diag([0.0, 1.0])
+    right, left, delta = null_vectors(J, dJ)
+    assert abs(right[1]) == pytest.approx(1.0) and abs(left[1]) == pytest.approx(1.0)
+    assert delta == pytest.approx(0.1)
+    g, v, w = bordered_test(np.diag([1.0, 0.0]), np.array([0.0, 1.0]), np.array([0.0, 1.0]))
+    assert g == 0.0 and v @ [0, 1] == 1.0
+
+
+def test_stalled_location_returns_its_bracket():
+    sys = Pitchfork(stall=(1 - 1e-4, 1 + 1e-4))
+    bp = locate_branch_point(sys, 0.5, 1.5, known=[(0.5, np.array([0.25, 0.0]))], xtol=1e-12)
+    assert not bp.converged and "stopped on the bracket" in bp.stats["stall"]
+    lo, hi = bp.bracket
+    assert lo <= 1.0 <= hi and hi - lo < 0.05
+    assert abs(bp.p - 1.0) <= bp.error_estimate
+
+
+def test_no_sign_change_is_an_error():
+    with pytest.raises(ConvergenceError, match="does not change sign"):
+        locate_branch_point(Pitchfork(), 1.1, 1.5, known=[(1.1, np.array([1.21, 0.0]))],
+                            xtol=1e-12)
+
+
+# ---- the plate ---------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def coarse_branch():
+    """The compressed plate (a/t = 100) on 12 Chebyshev nodes, past the Bessel load."""
+    sc = plate_under_edge_compression(100)
+    q_end = 1.3 * bessel_root() / load_factor(100)
+    return shellbvp.follow(sc, method=shellbvp.Chebyshev(nodes=12), p_stop=(0.0, q_end),
+                           energies=False)
+
+
+def _bracket_index(branch, a_over_t):
+    q = bessel_root() / load_factor(a_over_t)
+    return next(i for i, pt in enumerate(branch.points) if pt.p > q)
+
+
+def test_plate_branch_point_against_bessel_and_its_symmetry(coarse_branch):
+    i = _bracket_index(coarse_branch, 100)
+    a, b = coarse_branch.points[i - 1], coarse_branch.points[i]
+    bp = locate_branch_point(coarse_branch.system, a.p, b.p, known=[(a.p, a.U)],
+                             xtol=1e-12 * a.p)
+    x2 = bp.p * load_factor(100)
+    # Kirchhoff's value to the thin-plate theory's error, (t/a)^2 = 1e-4 (measured -2.69e-5)
+    assert abs(x2 / bessel_root() - 1.0) < 1e-4
+    assert bp.error_estimate <= 2e-12 * bp.p and bp.converged
+    assert bp.bracket[0] <= bp.p <= bp.bracket[1]
+    # the null vector breaks w -> -w: z, theta, M carry it; r and F_r (even under the
+    # mirror) do not
+    Y = np.abs(bp.system.split(bp.null)).max(axis=(0, 2))
+    assert Y[2] > 0.1 and Y[3] > 0.1
+    assert Y[0] < 1e-10 and Y[4] < 1e-10
+
+
+def test_rungs_converge(coarse_branch):
+    """The located value on rungs from 8 nodes: the changes fall geometrically (Chebyshev)
+    and the estimate bounds the distance to the finest value."""
+    from shellbvp.methods.chebyshev import ChebyshevSystem
+
+    i = _bracket_index(coarse_branch, 100)
+    a, b = coarse_branch.points[i - 1], coarse_branch.points[i]
+    S = coarse_branch.system
+    values = []
+    for N in (6, 8, 10, 12, 16):
+        first = ChebyshevSystem(S.bvp, N)
+        known = [(q.p, S.transfer(q.U, q.p, first)) for q in (a, b)]
+        bp = locate_branch_point(first, a.p, b.p, known=known, xtol=1e-16)
+        values.append(bp.p * load_factor(100))
+    changes = np.abs(np.diff(values))
+    assert changes[0] > 10 * changes[1] > 0 and changes[1] > 10 * changes[2]
+    est = refine_branch_point(S, a.p, b.p, known=[(a.p, a.U), (b.p, b.U)], tol=1e-9 * b.p,
+                              first=ChebyshevSystem(S.bvp, 8))
+    assert est.stats["rungs"] >= 3 and est.converged
+    # every rung's change to the next bounds its distance to the finest value (within 2x)
+    chain = []
+    q = est
+    while q is not None:
+        chain.append(q.p)
+        q = q.previous
+    chain = chain[::-1]
+    for k in range(len(chain) - 2):
+        assert abs(chain[k] - chain[-1]) <= 2 * abs(chain[k] - chain[k + 1]) + 1e-15
+    assert abs(est.p * load_factor(100) - values[-1]) <= est.error_estimate * load_factor(100) \
+        + 1e-12
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("a_over_t", [100, 1000])
+def test_first_instability_of_the_plate(a_over_t):
+    sc = plate_under_edge_compression(a_over_t)
+    q_end = 1.5 * bessel_root() / load_factor(a_over_t)
+    b = shellbvp.follow(sc, p_stop=(0.0, q_end), energies=False)
+    ins = shellbvp.first_instability(b)
+    assert ins.kind == "bifurcation" and ins.n == 0
+    x2 = ins.p * load_factor(a_over_t)
+    # -2.69e-5 at a/t = 100 and -2.69e-7 at 1000: the thin-plate theory's (t/a)^2
+    assert abs(x2 / bessel_root() - 1.0) < 0.5 * a_over_t ** -2
+    assert ins.error_estimate < 1e-6 * ins.p
+    assert ins.branch_point.converged
+    assert ins.mode.n == 0 and ins.equilibrium is not None
