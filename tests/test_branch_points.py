@@ -192,3 +192,83 @@ def test_first_instability_of_the_plate(a_over_t):
     assert ins.error_estimate < 1e-6 * ins.p
     assert ins.branch_point.converged
     assert ins.mode.n == 0 and ins.equilibrium is not None
+
+
+# ---- the clamped plate free to slide radially: the "sliding" end ------------------------------
+def test_sliding_end_holds_z_and_theta_and_takes_a_radial_load_only():
+    end = End("sliding", radial=0.5)
+    assert end.fixes_z and end.conjugate(0.0, 1.0)[0] == 0.5
+    with pytest.raises(ValueError, match="takes no moment load"):
+        End("sliding", moment=1.0)
+    sc = Scene(geometry=disc(1.0), h=0.01, material="koiter", nu=NU,
+               ends=("pole", End("sliding", radial=lambda q: -q)), parameter="q")
+    b = shellbvp.follow(sc, method=shellbvp.Chebyshev(nodes=12), p_stop=(0.0, 1e-5),
+                        energies=False, estimate_errors=False)
+    S = b.system
+    Y = S.states(b.points[-1].U)[-1, :, -1]             # (r, z, theta, m, f_r, f_z) at the edge
+    assert abs(Y[2]) < 1e-14 and abs(Y[1]) < 1e-14      # theta, z held
+    assert Y[0] < 1.0                                   # r free: the edge moves in
+    # f_r = 12/h^2 times the line load per radian (r0 = 1), inward
+    assert Y[4] == pytest.approx(-12.0 / 0.01 ** 2 * 1e-5, rel=1e-10)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("a_over_t", [100, 1000])
+def test_clamped_sliding_plate_buckles_at_j11_squared(a_over_t):
+    from scipy.special import jn_zeros
+
+    x2 = jn_zeros(1, 1)[0] ** 2                 # 14.681970642123895
+    sc = Scene(geometry=disc(1.0), h=1.0 / a_over_t, material="koiter", nu=NU,
+               ends=("pole", End("sliding", radial=lambda q: -q)), parameter="q")
+    b = shellbvp.follow(sc, p_stop=(0.0, 1.3 * x2 / load_factor(a_over_t)), energies=False)
+    ins = shellbvp.first_instability(b)
+    assert ins.kind == "bifurcation" and ins.n == 0
+    # -9.41e-5 at a/t = 100: the thin-plate theory's (t/a)^2
+    assert abs(ins.p * load_factor(a_over_t) / x2 - 1.0) < 1.5 * a_over_t ** -2
+    assert ins.error_estimate < 1e-6 * ins.p
+
+
+# ---- past the branch point: the bifurcated axisymmetric branch and Koiter's a, b ---------------
+@pytest.fixture(scope="module")
+def plate_branch_point(coarse_branch):
+    i = _bracket_index(coarse_branch, 100)
+    a, b = coarse_branch.points[i - 1], coarse_branch.points[i]
+    return locate_branch_point(coarse_branch.system, a.p, b.p, known=[(a.p, a.U)],
+                               xtol=1e-13 * a.p)
+
+
+def test_koiter_of_the_plate_is_a_supercritical_symmetric_pitchfork(plate_branch_point):
+    from shellbvp.pitchfork import axisymmetric_koiter
+
+    kc = axisymmetric_koiter(plate_branch_point)
+    # measured: a = 4e-12, b = 0.270294 +- 5e-7 (nu = 0.3, xi = w_max / t)
+    assert abs(kc.a) < 1e-8 and kc.kind == "supercritical"
+    assert kc.b > 0 and kc.b_error < 1e-4 * kc.b
+    assert kc.b == pytest.approx(0.2703, abs=2e-4)
+    # the two halves of the pitchfork: the same p at +-xi (the plate's w -> -w)
+    (x1, p1), (x2, p2) = kc.samples[:2]
+    assert x1 == pytest.approx(-x2, rel=1e-9) and p1 == pytest.approx(p2, rel=1e-12)
+
+
+def test_follow_bifurcation_at_n0_switches_onto_the_buckled_branch(coarse_branch,
+                                                                   plate_branch_point):
+    from shellbvp.instability import Instability
+    from shellbvp.pitchfork import BifurcatedBranch
+
+    bp = plate_branch_point
+    ins = Instability("bifurcation", 0, bp.p, bp.w, bp.error_estimate, "q",
+                      scan=((0.0, 0.0, {}),), branch_point=bp)
+    h = 0.01
+    out = shellbvp.follow_bifurcation(ins, p_stop=(0.0, 1.05 * bp.p), amplitude_max=1.0)
+    assert isinstance(out, BifurcatedBranch) and out.n == 0
+    br = out.branch
+    assert len(br.p) >= 3 and np.all(np.diff(br.p) > 0) and br.w[-1] > 0.3 * h
+    # the branch's points near the branch point follow Koiter's parabola in xi = w / t
+    # (the centre deflection is the largest normal displacement of the plate)
+    xi = br.w / h
+    small = xi < 0.3
+    pred = 1 + out.koiter.b * xi[small] ** 2
+    assert np.allclose(br.p[small] / bp.p, pred, rtol=0, atol=2e-3 * xi[small] ** 2 + 1e-9)
+    # off the flat state: the last point is bent (theta), not only compressed
+    Y = br.system.split(br.points[-1].U)
+    assert np.abs(Y[:, 2]).max() > 1e-3
