@@ -53,10 +53,11 @@ class Instability:
 
     Attributes:
         kind: ``"fold"`` (the axisymmetric fold comes first), ``"bifurcation"`` (a
-            non-axisymmetric mode, n >= 1, loses stability first) or ``"none"`` (neither
+            non-axisymmetric mode, n >= 1, loses stability first, or an axisymmetric one,
+            n = 0, with no fold: a branch point) or ``"none"`` (neither
             up to ``p``, the last point checked: the branch's end, or the last point whose
             second variation could be evaluated; ``stop`` says which and why).
-        n: the harmonic (0 for a fold; -1 for none).
+        n: the harmonic (0 for a fold or an axisymmetric bifurcation; -1 for none).
         p: the parameter value (the scene's parameter, in its units unless a scene converts
             it, see ``parameter``); w: the observable there (R0).
         error_estimate: of p (module docstring).

@@ -15,7 +15,8 @@ branch point's state over the thickness (signed: its value where the mode's norm
 displacement is largest), measured on the bifurcated branch itself: solved at monitor
 amplitudes +-a and +-a/2, the odd part of p / p_c - 1 over xi gives a_K, the even part over
 xi^2 gives b_K, each extrapolated to a -> 0 (Richardson: both are even in a to the next
-order); the change of the extrapolation is its error estimate. This uses only the discrete
+order); the change of the extrapolation, plus the change from the branch point's coarser
+rung, is the error estimate. This uses only the discrete
 equations (no third or fourth derivatives), so it holds for any discretisation.
 b_K > 0 with a_K = 0: a supercritical (stable) symmetric pitchfork, as the plate's
 (Friedrichs & Stoker 1941); b_K < 0: subcritical, imperfection sensitive.
@@ -133,35 +134,44 @@ class _Off:
         return sign * float(np.abs(w).max()) / h
 
 
-def axisymmetric_koiter(bp, *, direction: float = 1.0, xi_max: float = KOITER_AMPLITUDE,
-                        tol: float = 1e-12) -> AxisymmetricKoiter:
-    """Koiter's a and b at the branch point ``bp`` (a
-    :class:`shellbvp.continuation.branch_points.BranchPoint`) from its bifurcated states
-    (module docstring). ``direction``: the way p moved to p_c along the axisymmetric branch;
-    ``xi_max``: the largest amplitude used (normal displacement over the thickness)."""
+def _fit(bp, xi_max, tol):
+    """(a, b, Richardson's changes of a and b, samples) on ``bp``'s own system."""
     system = bp.system
     h = float(system.bvp.scene.h)
     off = _Off(bp, tol)
     # the monitor offset whose state has xi ~ xi_max: linear in a to leading order
     w = _normal(system, bp.null)
     a1 = xi_max * h / float(np.abs(w).max()) * abs(off.rate)
-    fits = []
-    samples = []
+    fits, samples = [], []
     for a in (a1, 0.5 * a1):
         plus, minus = off(a), off(-a)
         xp, xm = off.xi(plus, h), off.xi(minus, h)
         qp, qm = plus.p / bp.p - 1.0, minus.p / bp.p - 1.0
         samples += [(xp, plus.p), (xm, minus.p)]
-        # q = A x + B x^2 at both: solve the 2 x 2 system
-        A, B = np.linalg.solve([[xp, xp * xp], [xm, xm * xm]], [qp, qm])
-        fits.append((A, B))
+        # q = A x + B x^2 at both: the 2 x 2 system
+        fits.append(np.linalg.solve([[xp, xp * xp], [xm, xm * xm]], [qp, qm]))
     (A1, B1), (A2, B2) = fits
     # the neglected terms are O(x^2) relative: Richardson over the halved amplitude
     a_K, b_K = (4 * A2 - A1) / 3, (4 * B2 - B1) / 3
+    return a_K, b_K, abs(a_K - A2), abs(b_K - B2), tuple(samples)
+
+
+def axisymmetric_koiter(bp, *, direction: float = 1.0, xi_max: float = KOITER_AMPLITUDE,
+                        tol: float = 1e-12) -> AxisymmetricKoiter:
+    """Koiter's a and b at the branch point ``bp`` (a
+    :class:`shellbvp.continuation.branch_points.BranchPoint`) from its bifurcated states
+    (module docstring). ``direction``: the way p moved to p_c along the axisymmetric branch;
+    ``xi_max``: the largest amplitude used (normal displacement over the thickness).
+    The error estimates: Richardson's change, plus the change from the branch point's
+    previous rung (``bp.previous``, where it was located on a ladder)."""
+    a_K, b_K, a_err, b_err, samples = _fit(bp, xi_max, tol)
+    if bp.previous is not None:
+        a_c, b_c, _, _, _ = _fit(bp.previous, xi_max, tol)
+        a_err, b_err = a_err + abs(a_K - a_c), b_err + abs(b_K - b_c)
     return AxisymmetricKoiter(
-        p_c=float(bp.p), parameter=system.bvp.scene.parameter, a=float(a_K), b=float(b_K),
-        a_error=float(abs(a_K - A2)), b_error=float(abs(b_K - B2)), h=h,
-        direction=float(direction), samples=tuple(samples))
+        p_c=float(bp.p), parameter=bp.system.bvp.scene.parameter, a=float(a_K),
+        b=float(b_K), a_error=float(a_err), b_error=float(b_err),
+        h=float(bp.system.bvp.scene.h), direction=float(direction), samples=samples)
 
 
 def follow_branch_point(instability, *, start: float | None = None, p_stop=None,
