@@ -10,6 +10,8 @@ nu = 0.3). Kirchhoff's theory drops the membrane prebuckling strain, of relative
 (t/a)^2: the located value must approach the Bessel root like (t/a)^2.
 """
 
+import math
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -229,6 +231,65 @@ def test_clamped_sliding_plate_buckles_at_j11_squared(a_over_t):
 
 
 # ---- past the branch point: the bifurcated axisymmetric branch and Koiter's a, b ---------------
+def von_karman_b(edge="hinged", nu=NU, N=40):
+    """Koiter's b of the thin limit, independently: the axisymmetric von Karman plate in
+    Friedrichs & Stoker's form (a = D = 1, beta = w' / t, Phi = r N_r),
+        r^2 beta'' + r beta' - beta = r Phi beta,
+        r^2 Phi'' + r Phi' - Phi = -6 (1 - nu^2) r beta^2,
+    beta(0) = Phi(0) = 0, Phi(1) = -q, and at the edge beta' + nu beta = 0 (simply
+    supported) or beta = 0 (clamped, sliding), with the amplitude xi = -int beta dr =
+    w_centre / t prescribed: Chebyshev collocation (N), Newton by fsolve, b = (q / q_cr - 1)
+    / xi^2 at xi = 0.02 and 0.01, Richardson-extrapolated."""
+    from scipy.optimize import fsolve
+    from scipy.special import jn_zeros
+
+    k = np.arange(N + 1)
+    x = np.cos(np.pi * k / N)
+    c = np.hstack([2.0, np.ones(N - 1), 2.0]) * (-1.0) ** k
+    X = np.tile(x, (N + 1, 1)).T
+    D = np.outer(c, 1 / c) / (X - X.T + np.eye(N + 1))
+    D = 2.0 * (D - np.diag(D.sum(1)))                     # on r = (x + 1) / 2
+    r = (x + 1) / 2
+    th = np.pi * k / N                                    # Clenshaw-Curtis weights on [0, 1]
+    w = np.zeros(N + 1)
+    v = np.ones(N - 1)
+    for j in range(1, N // 2):
+        v -= 2 * np.cos(2 * j * th[1:-1]) / (4 * j * j - 1)
+    v -= np.cos(N * th[1:-1]) / (N * N - 1)
+    w[0] = w[N] = 1 / (N * N - 1)
+    w[1:-1] = 2 * v / N
+    w /= 2
+    D2 = D @ D
+    q_cr = bessel_root(nu) if edge == "hinged" else jn_zeros(1, 1)[0] ** 2
+
+    def F(z, xi):
+        b, P, q = z[:N + 1], z[N + 1:2 * N + 2], z[-1]
+        Rb = r ** 2 * (D2 @ b) + r * (D @ b) - b - r * P * b
+        RP = r ** 2 * (D2 @ P) + r * (D @ P) - P + 6 * (1 - nu ** 2) * r * b ** 2
+        Rb[N], RP[N] = b[N], P[N]                           # the centre, r = 0
+        Rb[0] = (D @ b)[0] + nu * b[0] if edge == "hinged" else b[0]
+        RP[0] = P[0] + q
+        return np.concatenate([Rb, RP, [w @ b - xi]])
+
+    from scipy.special import j1
+
+    beta = j1(math.sqrt(q_cr) * r)
+    z = np.concatenate([beta, -q_cr * r, [q_cr]])
+    out = []
+    for xi in (0.02, 0.01):
+        z[:N + 1] *= xi / (w @ z[:N + 1])
+        z = fsolve(F, z, args=(xi,), xtol=1e-13)
+        assert np.abs(F(z, xi)).max() < 1e-8
+        out.append((z[-1] / q_cr - 1) / xi ** 2)
+    return (4 * out[1] - out[0]) / 3
+
+
+def test_von_karman_reference():
+    # the thin limit: 0.270379 simply supported, 0.203009 clamped (N = 40 and 60 agree)
+    assert von_karman_b("hinged") == pytest.approx(0.270379, abs=2e-6)
+    assert von_karman_b("clamped") == pytest.approx(0.203009, abs=2e-6)
+
+
 @pytest.fixture(scope="module")
 def plate_branch_point(coarse_branch):
     i = _bracket_index(coarse_branch, 100)
@@ -244,7 +305,9 @@ def test_koiter_of_the_plate_is_a_supercritical_symmetric_pitchfork(plate_branch
     # measured: a = 4e-12, b = 0.270294 +- 5e-7 (nu = 0.3, xi = w_max / t)
     assert abs(kc.a) < 1e-8 and kc.kind == "supercritical"
     assert kc.b > 0 and kc.b_error < 1e-4 * kc.b
-    assert kc.b == pytest.approx(0.2703, abs=2e-4)
+    # von Karman's thin limit, 0.270379, to the (t/a)^2 of the shell theory (measured
+    # 0.270294 at a/t = 100, 0.270379 at a/t = 1000)
+    assert kc.b == pytest.approx(von_karman_b("hinged"), rel=1e-3)
     # the two halves of the pitchfork: the same p at +-xi (the plate's w -> -w)
     (x1, p1), (x2, p2) = kc.samples[:2]
     assert x1 == pytest.approx(-x2, rel=1e-9) and p1 == pytest.approx(p2, rel=1e-12)
@@ -272,3 +335,23 @@ def test_follow_bifurcation_at_n0_switches_onto_the_buckled_branch(coarse_branch
     # off the flat state: the last point is bent (theta), not only compressed
     Y = br.system.split(br.points[-1].U)
     assert np.abs(Y[:, 2]).max() > 1e-3
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("edge, end", [("hinged", "roller"), ("clamped", "sliding")])
+def test_koiter_b_of_thin_plates_is_von_karmans(edge, end):
+    from scipy.special import jn_zeros
+
+    from shellbvp.continuation.branch_points import branch_point_on
+    from shellbvp.pitchfork import axisymmetric_koiter
+
+    x2 = bessel_root() if edge == "hinged" else jn_zeros(1, 1)[0] ** 2
+    sc = Scene(geometry=disc(1.0), h=1e-3, material="koiter", nu=NU,
+               ends=("pole", End(end, radial=lambda q: -q)), parameter="q")
+    b = shellbvp.follow(sc, p_stop=(0.0, 1.3 * x2 / load_factor(1000)), energies=False,
+                        estimate_errors=False)
+    i = next(k for k, pt in enumerate(b.points) if pt.p * load_factor(1000) > x2)
+    kc = axisymmetric_koiter(branch_point_on(b, i, tol=1e-9))
+    # measured: 0.270379 +- 1.2e-6 and 0.203009 +- 1.1e-6 against 0.270379, 0.203009
+    assert kc.kind == "supercritical"
+    assert kc.b == pytest.approx(von_karman_b(edge), abs=max(5 * kc.b_error, 5e-6))
