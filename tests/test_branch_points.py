@@ -355,3 +355,21 @@ def test_koiter_b_of_thin_plates_is_von_karmans(edge, end):
     # measured: 0.270379 +- 1.2e-6 and 0.203009 +- 1.1e-6 against 0.270379, 0.203009
     assert kc.kind == "supercritical"
     assert kc.b == pytest.approx(von_karman_b(edge), abs=max(5 * kc.b_error, 5e-6))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("end, spectral", [("roller", 4.1976741976434795),
+                                           ("sliding", 14.680588780537317)])
+def test_the_energy_method_locates_the_same_branch_points(end, spectral):
+    """Another discretisation (direct minimisation, its own ends and unknowns): the same
+    branch point at a/t = 100 (measured: 4.1976741975580, 14.680588780426)."""
+    from shellbvp.continuation.branch_points import branch_point_on
+
+    sc = Scene(geometry=disc(1.0), h=0.01, material="koiter", nu=NU,
+               ends=("pole", End(end, radial=lambda q: -q)), parameter="q")
+    b = shellbvp.follow(sc, method="energy", p_stop=(0.0, 1.3 * spectral / load_factor(100)),
+                        energies=False, estimate_errors=False)
+    i = next(k for k, pt in enumerate(b.points) if pt.p * load_factor(100) > spectral)
+    bp = branch_point_on(b, i, tol=1e-9)
+    assert bp.converged
+    assert bp.p * load_factor(100) == pytest.approx(spectral, rel=1e-9)
