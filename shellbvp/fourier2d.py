@@ -239,7 +239,7 @@ class Fourier2D:
             for e, (sigma, (i, side), end) in enumerate(zip((1.0, -1.0),
                                                             ((0, "a"), (P - 1, "b")),
                                                             sc.ends)):
-                if end.kind in ("roller", "symmetry"):
+                if end.kind in ("roller", "symmetry", "sliding"):
                     self._lids.append((e, sigma, b.ends[(i, side)][3]))
         self._loaded = [e.loaded and e.displacement is None for e in sc.ends]
         self._joints = tuple(self._joint(i) for i in range(P - 1))

@@ -413,6 +413,7 @@ def _pole_class(n: int) -> int:
 #: the displacement components (U_r, U_w, U_z) each kind of end holds, and whether it holds
 #: the rotation of the tangent out of the surface
 HOLDS = {"clamped": ((0, 1, 2), True), "hinged": ((0, 1, 2), False), "roller": ((2,), False),
+         "sliding": ((2,), True),
          "symmetry": ((2,), True), "free": ((), False)}
 
 
@@ -641,7 +642,7 @@ def _lid_stiffness(base: _Base, n: int) -> np.ndarray | float:
     P = base.s.shape[0]
     K = 0.0
     for sigma, (i, side), kind in zip((1.0, -1.0), ((0, "a"), (P - 1, "b")), base.kinds):
-        if kind not in ("roller", "symmetry"):
+        if kind not in ("roller", "symmetry", "sliding"):
             continue
         z = base.ends[(i, side)][3]
         rows = np.array([_end_rows(base, i, side, 0, c) for c in (0, 1)])

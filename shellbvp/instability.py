@@ -10,6 +10,11 @@ result. The first point where an eigenvalue is negative brackets the instability
 
 * n = 0 first: the axisymmetric fold (a fold in the load is a zero of the n = 0 second
   variation); its value is the branch's refined fold.
+* n = 0 first with no fold of the branch there: a branch point within the axisymmetric
+  class (a pitchfork of a symmetric state: a flat plate under edge compression), kind
+  ``"bifurcation"`` with n = 0, located as the root of a minimally augmented test function
+  of the branch's own discrete system, its error the change on the method's finer rungs
+  (:mod:`shellbvp.continuation.branch_points`).
 * n >= 1 first: a bifurcation. Its parameter value is the root of the lowest eigenvalue
   mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
@@ -48,10 +53,11 @@ class Instability:
 
     Attributes:
         kind: ``"fold"`` (the axisymmetric fold comes first), ``"bifurcation"`` (a
-            non-axisymmetric mode, n >= 1, loses stability first) or ``"none"`` (neither
+            non-axisymmetric mode, n >= 1, loses stability first, or an axisymmetric one,
+            n = 0, with no fold: a branch point) or ``"none"`` (neither
             up to ``p``, the last point checked: the branch's end, or the last point whose
             second variation could be evaluated; ``stop`` says which and why).
-        n: the harmonic (0 for a fold; -1 for none).
+        n: the harmonic (0 for a fold or an axisymmetric bifurcation; -1 for none).
         p: the parameter value (the scene's parameter, in its units unless a scene converts
             it, see ``parameter``); w: the observable there (R0).
         error_estimate: of p (module docstring).
@@ -63,6 +69,9 @@ class Instability:
         stop: the branch's own stop reason (kind ``"none"``).
         equilibrium: the axisymmetric equilibrium at p (a bifurcation: where the branch
             into n waves starts, :func:`shellbvp.follow_bifurcation`), or None.
+        branch_point: an axisymmetric bifurcation's (n = 0 without a fold)
+            :class:`shellbvp.continuation.branch_points.BranchPoint`: the discrete state, its
+            null vector and the bracket; None otherwise.
     """
 
     kind: str
@@ -77,6 +86,7 @@ class Instability:
     scan: tuple = field(repr=False, default=())
     stop: str = field(repr=False, default="")
     equilibrium: object = field(repr=False, default=None, compare=False)
+    branch_point: object = field(repr=False, default=None, compare=False)
 
     def __repr__(self) -> str:
         head = {"fold": "axisymmetric fold", "bifurcation": f"bifurcation into n = {self.n}",
@@ -217,8 +227,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                                float(fold.error_estimate), name, mode, cutoff,
                                _cutoff_reason(cutoff), rows, equilibrium=eq_f)
     elif 0 in low and low[0] < 0 and not candidates:
-        raise ConvergenceError(f"the n = 0 eigenvalue is negative between {name} = {p_a:.8g} "
-                               f"and {p_b:.8g} with no fold of the branch there")
+        return _branch_point(branch, i, degree, tol, cutoff, rows)
     # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root, in
     # p, or where the bracket ends at the fold in the monitor m (p is a coordinate of the
     # branch up to the fold, but a solve at prescribed p next to it is ill-conditioned: two
@@ -282,6 +291,20 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     return Instability("bifurcation", n, float(p), float(eq.w),
                        float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),
                        rows, equilibrium=eq)
+
+
+def _branch_point(branch, i, degree, tol, cutoff, rows) -> Instability:
+    """n = 0 negative with no fold between points i - 1 and i: a branch point of the
+    axisymmetric branch (a pitchfork of a symmetric state), located on the branch's
+    discretisation with its error estimate (:mod:`shellbvp.continuation.branch_points`)."""
+    from .continuation.branch_points import branch_point_on
+
+    bp = branch_point_on(branch, i, tol=tol)
+    eq = bp.equilibrium
+    mode = modes(eq, [0], count=1, degree=degree)[0]
+    return Instability("bifurcation", 0, float(bp.p), float(bp.w), float(bp.error_estimate),
+                       branch.scene.parameter, mode, cutoff, _cutoff_reason(cutoff), rows,
+                       equilibrium=eq, branch_point=bp)
 
 
 def _parameter_solver(branch, eq_a, eq_b):

@@ -327,6 +327,8 @@ def _build(scene, log_poles, key) -> Kernels:
             rows = (r - ref["r"], z_row, given(m, "moment"))
         elif kind == "roller":
             rows = (z_row, given(fr, "radial"), given(m, "moment"))
+        elif kind == "sliding":
+            rows = (z_row, given(fr, "radial"), th - ref["theta"])
         else:                                   # symmetry
             rows = (th - ref["theta"], fr, fz_row)
         return jnp.stack(rows)

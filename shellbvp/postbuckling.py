@@ -515,6 +515,10 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
                        estimate_error: bool = True, progress=None) -> LobedBranch:
     """The branch of n-lobed equilibria from a bifurcation found by
     :func:`shellbvp.first_instability`, followed to its ``n_folds``-th fold or a stated end.
+    At an axisymmetric bifurcation (n = 0) the bifurcated axisymmetric branch instead, with
+    Koiter's a and b (:func:`shellbvp.pitchfork.follow_branch_point`, a
+    :class:`shellbvp.pitchfork.BifurcatedBranch`; ``start`` and ``amplitude_max`` are then
+    offsets of the monitor, w / H, and K, degree and estimate_error do not apply).
 
     Arguments:
         instability: a :class:`shellbvp.Instability` of kind ``"bifurcation"`` (it carries
@@ -540,6 +544,16 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
     if not isinstance(instability, Instability) or instability.kind != "bifurcation":
         raise ValueError("instability must be a shellbvp.Instability of kind 'bifurcation' "
                          f"(from first_instability), got {instability!r}")
+    if instability.n == 0:
+        # an axisymmetric bifurcation: the bifurcated branch is axisymmetric too, followed
+        # on the branch's own discretisation (start and amplitude_max in its monitor, w / H)
+        from .pitchfork import follow_branch_point
+
+        H = instability.branch_point.system.bvp.scale
+        return follow_branch_point(
+            instability, start=start, p_stop=p_stop,
+            w_stop=(-amplitude_max * H, amplitude_max * H), n_folds=n_folds or None,
+            options=None if options is LOBED_OPTIONS else options, progress=progress)
     eq = instability.equilibrium
     if not isinstance(eq, Equilibrium):
         raise ValueError("instability carries no equilibrium: compute it with "

@@ -23,8 +23,8 @@ as are the joints of the geometry. Fields use array arithmetic only (they are tr
 JAX).
 
 The ends (:class:`End`) say what holds each end of the meridian: ``pole`` (an end on the
-axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller`` or ``symmetry``, with
-given line loads where they are free to move. An axisymmetric shell has one rigid motion
+axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller``, ``sliding`` or
+``symmetry``, with given line loads where they are free to move. An axisymmetric shell has one rigid motion
 its unknowns see, the axial translation; a scene whose ends do not fix the axial position
 has it removed by holding the first end's z (:attr:`Scene.pinned`), with the axial force
 there left free: it is zero when the loads balance, as they must for a free body. Ring
@@ -84,6 +84,8 @@ END_KINDS = {
     "clamped": "r, z and theta fixed at the reference's values",
     "hinged": "r and z fixed; the moment given",
     "roller": "z fixed; the radial force and the moment given",
+    "sliding": ("z and theta fixed at the reference's values (a clamp that slides "
+                "radially); the radial force given"),
     "symmetry": ("a mirror plane normal to the axis: theta fixed (the tangent parallel to "
                  "the axis), no shear (F_r = 0), the axial force given"),
 }
@@ -91,10 +93,11 @@ END_KINDS = {
 #: given as a function of the parameter), in the order of :attr:`End.loads`
 LOAD_NAMES = ("axial", "radial", "moment", "force", "displacement")
 #: the ends that fix the axial position z
-FIXES_Z = ("clamped", "hinged", "roller")
+FIXES_Z = ("clamped", "hinged", "roller", "sliding")
 #: the line loads each kind of end accepts (where it is free to move)
 LOADS_OF = {"pole": ("force", "displacement"), "free": ("axial", "radial", "moment"), "clamped": (),
-            "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",)}
+            "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",),
+            "sliding": ("radial",)}
 
 
 def lam_max(h: float) -> float:
@@ -155,8 +158,8 @@ class End:
     """What holds one end of the meridian (:data:`END_KINDS`), and the line loads on it.
 
     Attributes:
-        kind: ``"pole"``, ``"free"``, ``"clamped"``, ``"hinged"``, ``"roller"`` or
-            ``"symmetry"``.
+        kind: ``"pole"``, ``"free"``, ``"clamped"``, ``"hinged"``, ``"roller"``,
+            ``"sliding"`` or ``"symmetry"``.
         axial, radial: line forces per unit length of the reference edge along +z and +r
             (per mu* h: a force per length over mu* h is a pure number), functions of the
             parameter p (a number: constant), or None (zero); only where the end is free to
@@ -573,7 +576,7 @@ class Scene:
             # the rotation of one that leaves theta free (a clamped-clamped shell has no end
             # that moves: give a monitor, or observe an interior point in a scene file)
             for comp, holds in (("r", ("clamped", "hinged", "pole")),
-                                ("theta", ("clamped", "symmetry", "pole"))):
+                                ("theta", ("clamped", "symmetry", "pole", "sliding"))):
                 for end in (1, 0):
                     if self.ends[end].kind not in holds:
                         return ((1.0, comp, end),)

@@ -196,7 +196,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
         rows += [th[i + 1, 0] - th[i, -1] - bvp.jumps[i, 2] for i in range(P - 1)]
         for k, (i, j) in enumerate(((0, 0), (-1, -1))):
             r0, _, th0 = ref[k]
-            if kinds[k] in ("clamped", "symmetry"):
+            if kinds[k] in ("clamped", "symmetry", "sliding"):
                 rows.append(th[i, j] - th0)
             if kinds[k] in ("clamped", "hinged"):
                 rows.append(r[i, j] - r0)

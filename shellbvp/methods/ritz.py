@@ -495,7 +495,7 @@ class RitzSystem:
             if end.kind == "pole":
                 fixed[th_node] = (0.0, math.pi)[k] - offset
                 fixed[r_node] = 0.0
-            if end.kind in ("clamped", "symmetry"):
+            if end.kind in ("clamped", "symmetry", "sliding"):
                 fixed[th_node] = float(th0) - offset
             if end.kind in ("clamped", "hinged"):
                 fixed[r_node] = float(r0)
