@@ -43,6 +43,9 @@ UNRESOLVED = 0.25
 #: an equilibrium inside the bracket that does not converge to the continuation's Newton
 #: tolerance is accepted at this fraction of the root's relative tolerance (_parameter_solver)
 STATE_TOL = 0.1
+#: a state solved inside a bracket farther than this many times the bracket's interpolation
+#: error scale from the branch's interpolant lies on another branch (_hermite)
+OFF_BRANCH = 100.0
 
 
 @dataclass(frozen=True)
@@ -247,7 +250,10 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     notes = {}
     for n in candidates:
         if best is not None:
-            if modes(best[3], [n], count=1, degree=degree)[n].lowest >= 0:
+            # another harmonic comes first only where its eigenvalue is negative at the
+            # root by more than the root's error allows: within it, it is a nearby one
+            if modes(best[3], [n], count=1, degree=degree)[n].lowest \
+                    >= -abs(best[5]) * best[2]:
                 continue
             x_b, p_b = best[4], best[1]
         # every evaluation (x, p, mu, equilibrium), the bracket's ends from the scan
@@ -274,7 +280,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             hi = min((q for q in log if q[0] > p_root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
             fine = modes(eq_root, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
-            got = (n, p_root, abs(fine / slope) + tol * abs(p_root), eq_root, root)
+            got = (n, p_root, abs(fine / slope) + tol * abs(p_root), eq_root, root, slope)
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             got = _bracketed(n, evals, exc)
             if got is None:
@@ -286,7 +292,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                         f"{str(exc)[:200]}): the bracket's width is the error estimate")
         if best is None or _before(got[1], best[1], p_a, p_b):
             best = got
-    n, p, err, eq, _ = best
+    n, p, err, eq = best[:4]
     note = notes.get(n, "")
     if not note and err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
         note = (f"not resolved by the perturbation degree: raising it from {degree} to "
@@ -315,7 +321,8 @@ def _bracketed(n, evals, exc):
     t = a[2] / (a[2] - b[2]) if a[2] != b[2] else 0.5
     p = a[1] + t * (b[1] - a[1])
     near = a if t <= 0.5 else b
-    return (n, p, abs(b[1] - a[1]), near[3], near[0])
+    slope = (b[2] - a[2]) / (b[1] - a[1]) if b[1] != a[1] else math.inf
+    return (n, p, abs(b[1] - a[1]), near[3], near[0], slope)
 
 
 def _parameter_solver(branch, i, tol):
@@ -338,6 +345,7 @@ def _parameter_solver(branch, i, tol):
     known = [branch.points[i - 1], branch.points[i]]
     solved = {float(q.p): branch.equilibrium(k) for q, k in zip(known, (i - 1, i))}
     tight = ContinuationOptions().newton_tol
+    on_branch = _hermite(*known)
 
     def at(p):
         if p in solved:
@@ -349,10 +357,39 @@ def _parameter_solver(branch, i, tol):
             q = point_at_parameter(branch.system, U, p, p, tol=tight)
         except ConvergenceError:
             q = point_at_parameter(branch.system, U, p, p, tol=STATE_TOL * tol, maxiter=40)
+        on_branch(q.U, p, max(tight, STATE_TOL * tol))
         known.append(q)
         solved[p] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
         return solved[p]
     return at
+
+
+def _hermite(a, b):
+    """A check that a state solved at p between the branch points a and b lies on their
+    branch: its distance from their cubic Hermite interpolant in p (values and exact
+    tangents) is at most ``OFF_BRANCH`` times the interpolant's own scale of error (the
+    trapezoidal defect of the bracket, O(dp^3)) or the Newton tolerance. Where the branch
+    crosses another one inside the bracket (an axisymmetric bifurcation at the same load), a
+    solve at prescribed p next to the crossing can converge on the other branch, whose
+    eigenvalues are not this branch's: a ConvergenceError then, which ends the root search
+    with the bracket found so far."""
+    dp = b.p - a.p
+    da, db = (q.dU / q.tangent[1] * dp for q in (a, b))
+    size = 1.0 + max(float(np.abs(a.U).max()), float(np.abs(b.U).max()))
+    defect = float(np.abs(b.U - a.U - (da + db) / 2).max()) / size
+
+    def check(U, p, newton_tol):
+        t = (p - a.p) / dp
+        h00, h10, h01, h11 = (2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t,
+                              -2 * t**3 + 3 * t**2, t**3 - t**2)
+        UH = h00 * a.U + h10 * da + h01 * b.U + h11 * db
+        off = float(np.abs(U - UH).max()) / size
+        if off > OFF_BRANCH * max(defect, newton_tol):
+            raise ConvergenceError(f"the state solved at p = {p:.10g} lies off the branch "
+                                   f"({off:.1e} relative from its interpolant between "
+                                   f"p = {a.p:.10g} and {b.p:.10g}, whose own error scale is "
+                                   f"{defect:.1e}): another branch crosses it there")
+    return check
 
 
 def _monitor_solver(branch, i, fold, eq_a):
