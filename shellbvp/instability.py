@@ -46,6 +46,11 @@ STATE_TOL = 0.1
 #: a state solved inside a bracket farther than this many times the bracket's interpolation
 #: error scale from the branch's interpolant lies on another branch (_hermite)
 OFF_BRANCH = 100.0
+#: "nearby": the harmonics n >= 1 whose eigenvalue crosses zero within this fraction of
+#: |p| of a bifurcation's p (Instability.nearby) ...
+NEARBY_FRACTION = 0.01
+#: ... at most this many, the critical one included
+NEARBY_COUNT = 5
 
 
 @dataclass(frozen=True)
@@ -73,6 +78,16 @@ class Instability:
         note: "" for a root located to ``tol``; otherwise why the error estimate is larger
             (the root search stopped and p is the bracket's, or the perturbation degree
             moves the root by more than ``UNRESOLVED`` of the bracket).
+        nearby: a bifurcation's cluster: ((n, p, error), ...) of the harmonics n >= 1 whose
+            lowest eigenvalue crosses zero along the branch between p and p plus
+            ``NEARBY_FRACTION`` (1 %) of |p| (or within p's error before it), the critical
+            one first, then by increasing distance from p, at most ``NEARBY_COUNT`` (5)
+            entries (the lowest crossings); each p located as the critical one (its error
+            the same estimate). Only the branch's points (up to its end or fold) are
+            scanned for them. Several entries within the error of p: which of them is
+            critical is not determined by the computation (a sphere under pressure: every
+            n of one spherical wave number crosses at the same load). Empty for a fold and
+            for none.
     """
 
     kind: str
@@ -88,6 +103,7 @@ class Instability:
     stop: str = field(repr=False, default="")
     equilibrium: object = field(repr=False, default=None, compare=False)
     note: str = field(repr=False, default="")
+    nearby: tuple = field(repr=False, default=())
 
     def __repr__(self) -> str:
         head = {"fold": "axisymmetric fold", "bifurcation": f"bifurcation into n = {self.n}",
@@ -98,7 +114,8 @@ class Instability:
     def scaled(self, factor: float, parameter: str) -> "Instability":
         """The same with p and its error divided by ``factor`` (a scene's unit)."""
         return replace(self, p=self.p / factor, error_estimate=self.error_estimate / factor,
-                       parameter=parameter)
+                       parameter=parameter, nearby=tuple(
+                           (n, p / factor, e / abs(factor)) for n, p, e in self.nearby))
 
 
 def modes_along(branch: Branch, n=range(0, N_SCAN + 1), *, count: int = 1,
@@ -184,7 +201,11 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
             raise ValueError(f"the branch's first point ({name} = {eq.p:.6g}) is already "
                              f"unstable (n = {sorted(neg)}): follow it from a stable state")
         if neg:
-            return _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
+            found = _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
+            if found.kind == "bifurcation":
+                found = replace(found, nearby=_nearby(branch, i, found, prev, low, degree,
+                                                      tol))
+            return found
         prev = low
     last = branch.equilibrium(len(branch.points) - 1)
     return Instability("none", -1, float(last.p), float(last.w), math.nan, name, None, cutoff,
@@ -290,7 +311,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                     from exc
             notes[n] = (f"located to its bracket only (the root search stopped: "
                         f"{str(exc)[:200]}): the bracket's width is the error estimate")
-        if best is None or _before(got[1], best[1], p_a, p_b):
+        if best is None or _first(got, n in notes, best, best[0] in notes, p_a, p_b):
             best = got
     n, p, err, eq = best[:4]
     note = notes.get(n, "")
@@ -302,6 +323,88 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     mode = modes(eq, [n], count=1, degree=degree)[n]
     return Instability("bifurcation", n, float(p), float(eq.w), float(err), name, mode,
                        cutoff, _cutoff_reason(cutoff), rows, equilibrium=eq, note=note)
+
+
+def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
+    """Instability.nearby of the bifurcation ``found`` bracketed by points i - 1 and i
+    (their lowest eigenvalues per n: low_prev, low): the branch's points after i are scanned
+    (harmonics up to the bracket's cutoff) until p passes the window, and each harmonic
+    whose eigenvalue has turned negative by then is located between the two points where
+    it changes sign, in the order of its linear-interpolation crossing, until
+    ``NEARBY_COUNT`` - 1 lie inside the window."""
+    from scipy.optimize import brentq
+
+    p_c, err_c = found.p, found.error_estimate
+    sign = 1.0 if branch.points[i].p >= branch.points[i - 1].p else -1.0
+    edge = p_c + sign * NEARBY_FRACTION * abs(p_c)
+    inside = lambda p: -err_c <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)  # noqa: E731
+    fold = _fold_in(branch, i)
+    table = [(float(branch.points[i - 1].p), low_prev)]
+    if fold is None:
+        table.append((float(branch.points[i].p), low))
+        j = i
+        while sign * (table[-1][0] - edge) < 0 and j + 1 < len(branch.points) \
+                and _fold_in(branch, j + 1) is None:
+            j += 1
+            try:
+                table.append((float(branch.points[j].p), _lowest(modes(
+                    branch.equilibrium(j), sorted(low), count=1, degree=degree).spectra)))
+            except ConvergenceError:
+                break
+    # per harmonic: the first sign change in the table, and its linear crossing
+    cross = {}
+    for n in low:
+        if n < 1 or n == found.n:
+            continue
+        for k in range(1, len(table)):
+            a, b = table[k - 1][1].get(n, math.nan), table[k][1].get(n, math.nan)
+            if a > 0 >= b:
+                pa, pb = table[k - 1][0], table[k][0]
+                cross[n] = (pa + a / (a - b) * (pb - pa), i - 1 + k)
+                break
+    # the order in which they cross: their eigenvalues at p (the most negative crossed
+    # first; the linear crossings of a long step are too coarse to tell a cluster apart)
+    at_c = _lowest(modes(found.equilibrium, sorted(cross), count=1, degree=degree).spectra) \
+        if cross else {}
+    out = [(int(found.n), float(p_c), float(err_c))]
+    for n, (guess, j) in sorted(cross.items(), key=lambda kv: at_c[kv[0]]):
+        if len(out) >= NEARBY_COUNT:
+            break
+        if at_c[n] > 0 and sign * (guess - edge) > NEARBY_FRACTION * abs(p_c):
+            continue                            # crosses well past the window
+        if at_c[n] <= 0:
+            # crossed already at p (within its error): between the bracket's points
+            j = i
+        at = _parameter_solver(branch, j, tol)
+        evals = [(float(branch.points[j - 1].p), float(branch.points[j - 1].p),
+                  table[j - i][1][n], None), (float(branch.points[j].p),
+                  float(branch.points[j].p), table[j - i + 1][1][n], None)]
+
+        def mu(x, n=n, evals=evals):
+            eq = at(x)
+            val = modes(eq, [n], count=1, degree=degree)[n].lowest
+            evals.append((x, float(eq.p), val, eq))
+            return val
+
+        try:
+            x_a, x_b = evals[0][0], evals[1][0]
+            root = brentq(mu, x_a, x_b, xtol=tol * max(abs(x_a), abs(x_b)), rtol=1e-14,
+                          maxiter=100)
+            eq = at(root)
+            log = sorted((e[1], e[2]) for e in evals)
+            lo = max((q for q in log if q[0] <= root), default=log[0])
+            hi = min((q for q in log if q[0] > root), default=log[-1])
+            slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+            fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
+            p, err = float(eq.p), abs(fine / slope) + tol * abs(float(eq.p))
+        except (ValueError, RuntimeError, ConvergenceError) as exc:
+            got = _bracketed(n, evals, exc)
+            if got is None:
+                continue
+            p, err = got[1], got[2]
+        if inside(p):
+            out.append((int(n), p, float(err)))
+    return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
 
 
 def _bracketed(n, evals, exc):
@@ -413,6 +516,18 @@ def _monitor_solver(branch, i, fold, eq_a):
             solved[m] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
         return solved[m]
     return at
+
+
+def _first(got, got_bracket, best, best_bracket, p_a, p_b) -> bool:
+    """Whether the root ``got`` replaces ``best`` as the first crossing: it comes before
+    it, except that a root known to its bracket only (``*_bracket``: p the bracket's
+    interpolated root, its width the error) does not replace a located root inside that
+    bracket, and is replaced by one."""
+    if got_bracket and not best_bracket and abs(best[1] - got[1]) <= got[2]:
+        return False
+    if best_bracket and not got_bracket and abs(got[1] - best[1]) <= best[2]:
+        return True
+    return _before(got[1], best[1], p_a, p_b)
 
 
 def _before(p, q, p_a, p_b) -> bool:
