@@ -192,8 +192,8 @@ def parser():
                          "the cap of the options below")
     _common(st, method=False)
     st.add_argument("--kappa-max", type=_positive, default=None,
-                    help="a cap: scan the branch up to this kappa R0, > 0 (default: until its "
-                         "apex passes 1.2 times full eversion)")
+                    help="a cap: scan the branch up to this kappa R0, > 0 (default 6, three "
+                         "times the stimulus of full eversion)")
     st.add_argument("--json", action="store_true", help="print one JSON object")
     pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
                                              "scene file's branch: Koiter's coefficients, the "
@@ -560,7 +560,7 @@ def main(argv=None) -> int:
                 print("first instability: " + (
                     f"the axisymmetric snap (fold) at kappa R0 = {r.p:.8f} +- "
                     f"{r.error_estimate:.1e}, w / R0 = {r.w:.6f}" if r.kind == "fold" else
-                    "none up to full eversion") + ": no bifurcation to follow")
+                    f"none up to kappa R0 = {r.p:.6g} ({r.stop})") + ": no bifurcation to follow")
                 return 0
             _postbuckling(a, r, name="kappa R0", unit="", scale=1.0,
                           bounds=bounds, column=sc.parameter_column)
