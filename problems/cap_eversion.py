@@ -200,9 +200,11 @@ def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0
         else:
             bound = f"w passed w_max = {w_max:g} R0"
         found = replace(found, stop=bound)
-    elif found.kind == "none" and "max_steps" in found.stop:
-        found = replace(found, stop=f"{found.stop} (here: the continuation's step limit; "
-                                   f"scan a shorter range with kappa_max=, or --kappa-max)")
+    elif found.kind == "none" and "raise max_steps or ds_max" in found.stop:
+        # the engine's remedy names options this function does not take
+        found = replace(found, stop=found.stop.replace(
+            "raise max_steps or ds_max", "scan a shorter range with kappa_max= (the "
+            "command line's --kappa-max)"))
     return found
 
 

@@ -15,8 +15,20 @@ result. The first point where an eigenvalue is negative brackets the instability
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
   estimate is the change of that root when the perturbation degree is raised by
   ``DEGREE_STEP``, plus the root's own tolerance; where that change exceeds ``UNRESOLVED``
-  of the bracket the result is a ConvergenceError, not an answer.
+  of the bracket, ``note`` says so (the change is the error estimate).
 
+A bracketed instability is always answered. The states inside a bracket are solved on the
+branch's own discretisation, from the nearest state known along its exact tangent; where
+Newton stalls at round-off (next to an axisymmetric bifurcation at the same load the
+Jacobian at prescribed p is nearly singular) the state is accepted at ``STATE_TOL`` of the
+root's tolerance, and a state off the branch's Hermite interpolant (converged on a crossing
+branch) ends the search. A search that ends so answers with the narrowest interval over
+which the eigenvalue changed sign, its linear root, and the interval's width as the error
+estimate (``note`` says so).
+
+Clusters: where several harmonics cross within ``NEARBY_FRACTION`` (1 %) of a bifurcation's
+load, ``nearby`` lists them (at most ``NEARBY_COUNT``, the critical one first; see
+:class:`Instability`).
 """
 
 from __future__ import annotations
@@ -166,8 +178,9 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
 
     Raises:
         ValueError: bad arguments (n_scan below RISING, tol outside (0, 1), an empty branch).
-        ConvergenceError: a bifurcation bracketed but not located (with the bracket), or
-            no cutoff below N_MAX.
+        ConvergenceError: no cutoff below N_MAX at the first point, or a bracket whose
+            root search stopped before any sign change of the eigenvalue was known inside
+            it (a bracket with one is answered: module docstring).
     """
     if not isinstance(branch, Branch) or not branch.points:
         raise ValueError("branch must be a shellbvp.Branch with points")

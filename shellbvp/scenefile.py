@@ -629,7 +629,7 @@ class SceneFile:
             kind=found.kind, n=None if none else int(found.n),
             p=float(self.parameter_value(found.p)),
             error_estimate=math.nan if none else float(found.error_estimate)
-            * abs(self.scale), stop=found.stop, instability=found,
+            * abs(self.scale), stop=file_remedy(found.stop), instability=found,
             nearby=tuple((int(n), float(self.parameter_value(p)), float(e) * abs(self.scale))
                          for n, p, e in found.nearby))
 
@@ -891,9 +891,23 @@ def _json_values(d: dict) -> dict:
             for k, v in d.items()}
 
 
+#: the engine's remedy for a branch that reached its step limit, which a scene file's user
+#: cannot take as worded (ContinuationOptions are not file keys) ...
+ENGINE_STEP_REMEDY = "raise max_steps or ds_max"
+#: ... and the file's own: ``points`` sets the limit to max(400, 4 points)
+FILE_STEP_REMEDY = ("set [solver] points = N (the step limit becomes the larger of 400 and "
+                    "4 N) or narrow [parameter] from/to")
+
+
+def file_remedy(stop: str) -> str:
+    """A stop reason with the engine's remedy for the step limit replaced by the scene
+    file's (:data:`FILE_STEP_REMEDY`)."""
+    return stop.replace(ENGINE_STEP_REMEDY, FILE_STEP_REMEDY)
+
+
 def _stop_reason(sf: SceneFile, branch, n_folds) -> str:
     if branch.stop:
-        return branch.stop
+        return file_remedy(branch.stop)
     if n_folds is not None and len(branch.folds) >= n_folds:
         return f"after {len(branch.folds)} fold(s)"
     t, (t_from, t_to) = float(branch.p[-1]), sf.t_range

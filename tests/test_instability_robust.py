@@ -79,3 +79,17 @@ def test_a_cap_that_does_not_snap_bifurcates_past_full_eversion():
     ins = ce.first_instability(0.15, 0.01, material="koiter", nu=0.5)
     assert ins.kind == "bifurcation" and ins.n == 2
     assert abs(ins.p - 3.5377) <= ins.error_estimate + 5e-5, (ins.p, ins.error_estimate)
+
+
+def test_a_step_limit_names_a_remedy_the_user_has(tmp_path):
+    """The engine's 'raise max_steps or ds_max' (ContinuationOptions, not file keys)
+    becomes the scene file's [solver] points, a key that exists and is read."""
+    from shellbvp.scenefile import FILE_STEP_REMEDY, example, file_remedy
+
+    stop = "options.max_steps = 400 points reached at p = 1, w = 2 before any stop; " \
+        "raise max_steps or ds_max"
+    fixed = file_remedy(stop)
+    assert "max_steps or ds_max" not in fixed and fixed.endswith(FILE_STEP_REMEDY)
+    text = open(example("clamped-plate")).read() + "\n[solver]\npoints = 150\n"
+    (tmp_path / "plate.toml").write_text(text)
+    assert shellbvp.load_scene(tmp_path / "plate.toml").points == 150
