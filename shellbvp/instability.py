@@ -281,7 +281,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         return a / (a - b) if math.isfinite(a) and a > 0 > b else 1.0
 
     candidates = sorted(candidates, key=linear_crossing)
-    notes = {}
+    notes, bracket_only = {}, set()
     for n in candidates:
         if best is not None:
             # another harmonic comes first only where its eigenvalue is negative at the
@@ -314,7 +314,14 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             hi = min((q for q in log if q[0] > p_root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
             fine = modes(eq_root, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
-            got = (n, p_root, abs(fine / slope) + tol * abs(p_root), eq_root, root, slope)
+            base = _base_error(branch, at, eq_root, n, degree, slope, tol)
+            if not math.isfinite(base):
+                notes[n] = ("the axisymmetric state's discretisation error is not in the "
+                            "error estimate (its solve on the next finer discretisation "
+                            "failed)")
+                base = 0.0
+            got = (n, p_root, abs(fine / slope) + base + tol * abs(p_root), eq_root, root,
+                   slope)
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             got = _bracketed(n, evals, exc)
             if got is None:
@@ -322,15 +329,17 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                                        f"{p_a:.10g} and {p_b:.10g} was not located and no "
                                        f"sign change of its eigenvalue is known: {exc}") \
                     from exc
+            bracket_only.add(n)
             notes[n] = (f"located to its bracket only (the root search stopped: "
                         f"{str(exc)[:200]}): the bracket's width is the error estimate")
-        if best is None or _first(got, n in notes, best, best[0] in notes, p_a, p_b):
+        if best is None or _first(got, n in bracket_only, best, best[0] in bracket_only, p_a, p_b):
             best = got
     n, p, err, eq = best[:4]
     note = notes.get(n, "")
     if not note and err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
-        note = (f"not resolved by the perturbation degree: raising it from {degree} to "
-                f"{degree + DEGREE_STEP} moves the root by ~{err:.3g} (more than "
+        note = (f"not resolved by the discretisation: raising the perturbation degree "
+                f"from {degree} to {degree + DEGREE_STEP} and solving the state on the "
+                f"method's next finer discretisation move the root by ~{err:.3g} (more than "
                 f"{UNRESOLVED:g} of the bracket {p_a:.6g} .. {p_b:.6g}), which is its error "
                 f"estimate")
     mode = modes(eq, [n], count=1, degree=degree)[n]
@@ -343,8 +352,10 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     (their lowest eigenvalues per n: low_prev, low): the branch's points after i are scanned
     (harmonics up to the bracket's cutoff) until p passes the window, and each harmonic
     whose eigenvalue has turned negative by then is located between the two points where
-    it changes sign, in the order of its linear-interpolation crossing, until
-    ``NEARBY_COUNT`` - 1 lie inside the window."""
+    it changes sign, in the order of its eigenvalue at p (the most negative crossed first:
+    the linear crossings of a long continuation step are too coarse to order a cluster),
+    until ``NEARBY_COUNT`` - 1 lie inside the window (at most ``NEARBY_COUNT`` + 2 root
+    searches)."""
     from scipy.optimize import brentq
 
     p_c, err_c = found.p, found.error_estimate
@@ -380,15 +391,19 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     at_c = _lowest(modes(found.equilibrium, sorted(cross), count=1, degree=degree).spectra) \
         if cross else {}
     out = [(int(found.n), float(p_c), float(err_c))]
+    solvers, searches = {}, 0
     for n, (guess, j) in sorted(cross.items(), key=lambda kv: at_c[kv[0]]):
-        if len(out) >= NEARBY_COUNT:
+        if len(out) >= NEARBY_COUNT or searches >= NEARBY_COUNT + 2:
             break
         if at_c[n] > 0 and sign * (guess - edge) > NEARBY_FRACTION * abs(p_c):
             continue                            # crosses well past the window
         if at_c[n] <= 0:
             # crossed already at p (within its error): between the bracket's points
             j = i
-        at = _parameter_solver(branch, j, tol)
+        searches += 1
+        if j not in solvers:
+            solvers[j] = _parameter_solver(branch, j, tol)
+        at = solvers[j]
         evals = [(float(branch.points[j - 1].p), float(branch.points[j - 1].p),
                   table[j - i][1][n], None), (float(branch.points[j].p),
                   float(branch.points[j].p), table[j - i + 1][1][n], None)]
@@ -409,7 +424,9 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
             hi = min((q for q in log if q[0] > root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
             fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
-            p, err = float(eq.p), abs(fine / slope) + tol * abs(float(eq.p))
+            base = _base_error(branch, at, eq, n, degree, slope, tol)
+            p, err = float(eq.p), abs(fine / slope) + (base if math.isfinite(base) else 0.0) \
+                + tol * abs(float(eq.p))
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             got = _bracketed(n, evals, exc)
             if got is None:
@@ -418,6 +435,42 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
         if inside(p):
             out.append((int(n), p, float(err)))
     return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
+
+
+def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
+    """The root's error from the axisymmetric state's discretisation: the change of the
+    eigenvalue when the state at the root is solved again on the method's next finer
+    discretisation (p held, or the monitor where ``at`` prescribes it: next to a fold),
+    over its slope in p. Without it, two methods' roots of the hemisphere under pressure at
+    R/t = 100 lay 8e-7 apart with error estimates of 5e-9 (the degree's and the root's
+    alone). 0 for a state solved elsewhere (the fold: its own estimate), nan where the
+    finer solve fails."""
+    from .continuation import ContinuationOptions
+    from .continuation.newton import newton
+
+    if id(eq) not in at.states:
+        return 0.0
+    U, p = at.states[id(eq)]
+    system = branch.system
+    try:
+        fine = system.refined()
+        Uf = system.transfer(U, p, fine)
+        alpha, beta, c = (1.0, 0.0, system.monitor(U)[0]) if at.prescribes == "monitor" \
+            else (0.0, 1.0, p)
+        for newton_tol in (ContinuationOptions().newton_tol, STATE_TOL * tol):
+            res = newton(fine, Uf, p, alpha, beta, c, tol=newton_tol, maxiter=40,
+                         fail_fast=False)
+            if res.ok:
+                break
+        else:
+            return math.nan
+        eq_f = equilibrium_from(fine, res.U, res.p)
+        mu_f = modes(eq_f, [n], count=1, degree=degree)[n].lowest
+        mu = modes(eq, [n], count=1, degree=degree)[n].lowest
+    except (ConvergenceError, ValueError, NotImplementedError):
+        return math.nan
+    # p moves with the monitor held: the eigenvalue's change includes that move's
+    return abs(mu_f - mu + slope * (p - res.p)) / abs(slope) if slope else math.nan
 
 
 def _bracketed(n, evals, exc):
@@ -476,7 +529,10 @@ def _parameter_solver(branch, i, tol):
         on_branch(q.U, p, max(tight, STATE_TOL * tol))
         known.append(q)
         solved[p] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
+        at.states[id(solved[p])] = (q.U, q.p)
         return solved[p]
+    at.states = {id(solved[float(q.p)]): (q.U, q.p) for q in known}
+    at.prescribes = "parameter"
     return at
 
 
@@ -527,7 +583,10 @@ def _monitor_solver(branch, i, fold, eq_a):
             q = point_at_monitor(branch.system, *near.predicted(m), m, tol=tol)
             known.append(q)
             solved[m] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
+            at.states[id(solved[m])] = (q.U, q.p)
         return solved[m]
+    at.states = {id(eq_a): (known[0].U, known[0].p)}
+    at.prescribes = "monitor"
     return at
 
 
