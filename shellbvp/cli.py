@@ -560,7 +560,8 @@ def main(argv=None) -> int:
                 print("first instability: " + (
                     f"the axisymmetric snap (fold) at kappa R0 = {r.p:.8f} +- "
                     f"{r.error_estimate:.1e}, w / R0 = {r.w:.6f}" if r.kind == "fold" else
-                    f"none up to kappa R0 = {r.p:.6g} ({r.stop})") + ": no bifurcation to follow")
+                    f"none up to kappa R0 = {r.p:.6g}" + (f" ({r.stop})" if r.stop else "")) +
+                    ": no bifurcation to follow")
                 return 0
             _postbuckling(a, r, name="kappa R0", unit="", scale=1.0,
                           bounds=bounds, column=sc.parameter_column)
