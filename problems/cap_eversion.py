@@ -39,7 +39,8 @@ BRACKET_RTOL = 1e-5
 ONSET_STEP = 0.05
 
 __all__ = ["scene", "equilibrium", "branch", "snap_curvature", "SnapResult", "snap_curve",
-           "SnapCurve", "CURVE_COLUMNS", "onset", "Onset", "flat_slope", "first_instability"]
+           "SnapCurve", "CURVE_COLUMNS", "onset", "Onset", "flat_slope", "first_instability",
+           "KAPPA_SCAN"]
 
 
 def scene(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5) -> Scene:
@@ -165,6 +166,12 @@ def snap_curvature(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                       gradient=_theta_gradient(f) if gradient else None)
 
 
+#: the default end of :func:`first_instability`'s scan of a cap that does not snap: kappa R0
+#: = 6, three times the stimulus of full eversion (kappa R0 = 2), well past it (a shallow
+#: Koiter cap, nu = 1/2, T = 1.5, bifurcates into n = 2 at kappa R0 = 3.54)
+KAPPA_SCAN = 6.0
+
+
 def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0.5,
                       tol: float = 1e-6, degree: int | None = None, kappa_max=None,
                       w_max=None) -> shellbvp.Instability:
@@ -173,24 +180,31 @@ def first_instability(theta, h, lam=1.0, *, model="relaxed", material="cg", nu=0
     waves before it (:func:`shellbvp.first_instability`). The cap is free: its rigid
     motions are zero modes of n = 0 and 1, excluded (:mod:`shellbvp.harmonics`). ``tol``:
     relative tolerance of the located kappa; ``degree``: of the perturbations. A cap that
-    does not snap is scanned to ``kappa_max`` (default: no bound) or until its apex
-    displacement exceeds ``w_max`` (default 1.2 times full eversion, :func:`branch`),
-    whichever comes first (kind ``"none"`` with that stop where nothing is found)."""
+    does not snap is scanned to ``kappa_max`` (default ``KAPPA_SCAN`` = 6, three times
+    full eversion's stimulus) and, where given, until its apex displacement exceeds
+    ``w_max`` (R0), whichever comes first (kind ``"none"`` with that stop, and how to scan
+    further, where nothing is found)."""
     if kappa_max is not None and not (isinstance(kappa_max, (int, float))
                                       and kappa_max > 0):
         raise ValueError(f"kappa_max must be a positive curvature (1/R0), got {kappa_max!r}")
+    kmax = KAPPA_SCAN if kappa_max is None else float(kappa_max)
     b = branch(theta, h, lam, model=model, material=material, nu=nu, n_folds=1,
-               tol=min(tol, TOL), energies=False, kappa_max=kappa_max, w_max=w_max,
-               estimate_errors=False)
+               tol=min(tol, TOL), energies=False, kappa_max=kmax,
+               w_max=math.inf if w_max is None else w_max, estimate_errors=False)
     found = shellbvp.first_instability(b, tol=tol, degree=degree)
     if found.kind == "none" and not found.stop:      # the continuation reached a bound
-        if kappa_max is not None and b.p[-1] >= kappa_max:
-            bound = f"kappa R0 passed kappa_max = {kappa_max:g}"
-        elif w_max is None:
-            bound = "w passed 1.2 times full eversion (the default w_max)"
+        if b.p[-1] >= kmax:
+            bound = (f"kappa R0 passed kappa_max = {kmax:g}" if kappa_max is not None else
+                     f"kappa R0 passed {kmax:g}, the default bound (three times full "
+                     f"eversion's stimulus; kappa_max=, or --kappa-max, scans further)")
         else:
             bound = f"w passed w_max = {w_max:g} R0"
         found = replace(found, stop=bound)
+    elif found.kind == "none" and "raise max_steps or ds_max" in found.stop:
+        # the engine's remedy names options this function does not take
+        found = replace(found, stop=found.stop.replace(
+            "raise max_steps or ds_max", "scan a shorter range with kappa_max= (the "
+            "command line's --kappa-max)"))
     return found
 
 

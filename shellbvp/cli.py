@@ -227,8 +227,8 @@ def parser():
                          "the cap of the options below")
     _common(st, method=False)
     st.add_argument("--kappa-max", type=_positive, default=None,
-                    help="a cap: scan the branch up to this kappa R0, > 0 (default: until its "
-                         "apex passes 1.2 times full eversion)")
+                    help="a cap: scan the branch up to this kappa R0, > 0 (default 6, three "
+                         "times the stimulus of full eversion)")
     st.add_argument("--json", action="store_true", help="print one JSON object")
     pb = sub.add_parser("postbuckling", help="past the first bifurcation of one cap or of a "
                                              "scene file's branch: Koiter's coefficients, the "
@@ -489,6 +489,17 @@ def _stability_file(sf, a) -> None:
     print(f"{sf.title or sf.source}: first instability: {what}" + (
         f" at {sf.parameter} = {found.p:.10g}{unit} +- {found.error_estimate:.1e}"
         if found.kind != "none" else f" (the branch ended: {found.stop})"))
+    _print_nearby(found.nearby, sf.parameter, unit)
+    if getattr(found.instability, "note", ""):
+        print(f"note: {found.instability.note}")
+
+
+def _print_nearby(nearby, name, unit) -> None:
+    """The line of a bifurcation's cluster (:attr:`shellbvp.Instability.nearby`), if it
+    has more than the critical harmonic."""
+    if len(nearby) > 1:
+        print(f"nearby (harmonics crossing within 1 % of {name}): " + "; ".join(
+            f"n = {n} at {p:.10g}{unit} +- {e:.1e}" for n, p, e in nearby))
 
 
 def _bounds(a, default, origin) -> tuple:
@@ -691,7 +702,7 @@ def main(argv=None) -> int:
 
                 print(json.dumps(SceneInstability(
                     r.kind, None if r.kind == "none" else int(r.n), float(r.p),
-                    float(r.error_estimate)).summary()))
+                    float(r.error_estimate), r.stop, r, r.nearby).summary()))
                 return 0
             print(f"Theta = {a.theta:g} rad, h0/R0 = {a.h:g}, {_material(a)}, "
                   f"T = Theta sqrt(R0/h0) = {a.theta / math.sqrt(a.h):.4g}")
@@ -701,6 +712,9 @@ def main(argv=None) -> int:
             print(f"first instability: {what}" + (
                 f" at kappa R0 = {r.p:.8f} +- {r.error_estimate:.1e}, w / R0 = {r.w:.6f}"
                 if r.kind != "none" else ""))
+            _print_nearby(r.nearby, "kappa R0", "")
+            if r.note:
+                print(f"note: {r.note}")
             print(f"harmonics n = 0..{r.cutoff} checked ({r.cutoff_reason})")
         elif a.command == "postbuckling":
             r = ce.first_instability(a.theta, a.h, a.lam, tol=a.tol, **opts)
@@ -710,7 +724,8 @@ def main(argv=None) -> int:
                 print("first instability: " + (
                     f"the axisymmetric snap (fold) at kappa R0 = {r.p:.8f} +- "
                     f"{r.error_estimate:.1e}, w / R0 = {r.w:.6f}" if r.kind == "fold" else
-                    "none up to full eversion") + ": no bifurcation to follow")
+                    f"none up to kappa R0 = {r.p:.6g}" + (f" ({r.stop})" if r.stop else "")) +
+                    ": no bifurcation to follow")
                 return 0
             _postbuckling(a, r, name="kappa R0", unit="", scale=1.0,
                           bounds=bounds, column=sc.parameter_column)

@@ -20,8 +20,20 @@ result. The first point where an eigenvalue is negative brackets the instability
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
   estimate is the change of that root when the perturbation degree is raised by
   ``DEGREE_STEP``, plus the root's own tolerance; where that change exceeds ``UNRESOLVED``
-  of the bracket the result is a ConvergenceError, not an answer.
+  of the bracket, ``note`` says so (the change is the error estimate).
 
+A bracketed instability is always answered. The states inside a bracket are solved on the
+branch's own discretisation, from the nearest state known along its exact tangent; where
+Newton stalls at round-off (next to an axisymmetric bifurcation at the same load the
+Jacobian at prescribed p is nearly singular) the state is accepted at ``STATE_TOL`` of the
+root's tolerance, and a state off the branch's Hermite interpolant (converged on a crossing
+branch) ends the search. A search that ends so answers with the narrowest interval over
+which the eigenvalue changed sign, its linear root, and the interval's width as the error
+estimate (``note`` says so).
+
+Clusters: where several harmonics cross within ``NEARBY_FRACTION`` (1 %) of a bifurcation's
+load, ``nearby`` lists them (at most ``NEARBY_COUNT``, the critical one first; see
+:class:`Instability`).
 """
 
 from __future__ import annotations
@@ -33,7 +45,7 @@ import numpy as np
 
 from .errors import ConvergenceError
 from .harmonics import DEGREE, N_MAX, HarmonicSpectrum, modes
-from .results import Branch
+from .results import Branch, equilibrium_from
 
 __all__ = ["Instability", "first_instability", "modes_along", "N_SCAN", "RISING"]
 
@@ -43,8 +55,19 @@ N_SCAN = 20
 RISING = 3
 #: degree increase of the error estimate
 DEGREE_STEP = 16
-#: a located root whose degree error exceeds this fraction of its bracket is not an answer
+#: a located root whose degree error exceeds this fraction of its bracket is flagged (note)
 UNRESOLVED = 0.25
+#: an equilibrium inside the bracket that does not converge to the continuation's Newton
+#: tolerance is accepted at this fraction of the root's relative tolerance (_parameter_solver)
+STATE_TOL = 0.1
+#: a state solved inside a bracket farther than this many times the bracket's interpolation
+#: error scale from the branch's interpolant lies on another branch (_hermite)
+OFF_BRANCH = 100.0
+#: "nearby": the harmonics n >= 1 whose eigenvalue crosses zero within this fraction of
+#: |p| of a bifurcation's p (Instability.nearby) ...
+NEARBY_FRACTION = 0.01
+#: ... at most this many, the critical one included
+NEARBY_COUNT = 5
 
 
 @dataclass(frozen=True)
@@ -68,7 +91,21 @@ class Instability:
         scan: per branch point up to the bracket, (p, w, lowest eigenvalue per n) rows.
         stop: the branch's own stop reason (kind ``"none"``).
         equilibrium: the axisymmetric equilibrium at p (a bifurcation: where the branch
-            into n waves starts, :func:`shellbvp.follow_bifurcation`), or None.
+            into n waves starts, :func:`shellbvp.follow_bifurcation`; located to its bracket
+            only: the solved equilibrium nearest p), or None.
+        note: "" for a root located to ``tol``; otherwise why the error estimate is larger
+            (the root search stopped and p is the bracket's, or the perturbation degree
+            moves the root by more than ``UNRESOLVED`` of the bracket).
+        nearby: a bifurcation's cluster: ((n, p, error), ...) of the harmonics n >= 1 whose
+            lowest eigenvalue crosses zero along the branch between p and p plus
+            ``NEARBY_FRACTION`` (1 %) of |p| (or within p's error before it), the critical
+            one first, then by increasing distance from p, at most ``NEARBY_COUNT`` (5)
+            entries (the lowest crossings); each p located as the critical one (its error
+            the same estimate). Only the branch's points (up to its end or fold) are
+            scanned for them. Several entries within the error of p: which of them is
+            critical is not determined by the computation (a sphere under pressure: every
+            n of one spherical wave number crosses at the same load). Empty for a fold and
+            for none.
         branch_point: an axisymmetric bifurcation's (n = 0 without a fold)
             :class:`shellbvp.continuation.branch_points.BranchPoint`: the discrete state, its
             null vector and the bracket; None otherwise.
@@ -87,6 +124,8 @@ class Instability:
     stop: str = field(repr=False, default="")
     equilibrium: object = field(repr=False, default=None, compare=False)
     branch_point: object = field(repr=False, default=None, compare=False)
+    note: str = field(repr=False, default="")
+    nearby: tuple = field(repr=False, default=())
 
     def __repr__(self) -> str:
         head = {"fold": "axisymmetric fold", "bifurcation": f"bifurcation into n = {self.n}",
@@ -97,7 +136,8 @@ class Instability:
     def scaled(self, factor: float, parameter: str) -> "Instability":
         """The same with p and its error divided by ``factor`` (a scene's unit)."""
         return replace(self, p=self.p / factor, error_estimate=self.error_estimate / factor,
-                       parameter=parameter)
+                       parameter=parameter, nearby=tuple(
+                           (n, p / factor, e / abs(factor)) for n, p, e in self.nearby))
 
 
 def modes_along(branch: Branch, n=range(0, N_SCAN + 1), *, count: int = 1,
@@ -150,8 +190,9 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
 
     Raises:
         ValueError: bad arguments (n_scan below RISING, tol outside (0, 1), an empty branch).
-        ConvergenceError: a bifurcation bracketed but not located (with the bracket), or
-            no cutoff below N_MAX.
+        ConvergenceError: no cutoff below N_MAX at the first point, or a bracket whose
+            root search stopped before any sign change of the eigenvalue was known inside
+            it (a bracket with one is answered: module docstring).
     """
     if not isinstance(branch, Branch) or not branch.points:
         raise ValueError("branch must be a shellbvp.Branch with points")
@@ -187,7 +228,11 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
             raise ValueError(f"the branch's first point ({name} = {eq.p:.6g}) is already "
                              f"unstable (n = {sorted(neg)}): follow it from a stable state")
         if neg:
-            return _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
+            found = _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
+            if found.kind == "bifurcation":
+                found = replace(found, nearby=_nearby(branch, i, found, prev, low, degree,
+                                                      tol))
+            return found
         prev = low
     last = branch.equilibrium(len(branch.points) - 1)
     return Instability("none", -1, float(last.p), float(last.w), math.nan, name, None, cutoff,
@@ -237,7 +282,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
     best = None
     eq_b = fold.equilibrium if fold is not None else branch.equilibrium(i)
     at = _monitor_solver(branch, i, fold, eq_a) if fold is not None else _parameter_solver(
-        branch, eq_a, eq_b)
+        branch, i, tol)
     x_a, x_b = (branch.points[i - 1].monitor, fold.monitor) if fold is not None else (p_a, p_b)
 
     # refine first the harmonic whose crossing the end values put earliest; another one
@@ -249,48 +294,70 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         return a / (a - b) if math.isfinite(a) and a > 0 > b else 1.0
 
     candidates = sorted(candidates, key=linear_crossing)
+    notes, bracket_only = {}, set()
     for n in candidates:
         if best is not None:
-            if modes(best[3], [n], count=1, degree=degree)[n].lowest >= 0:
+            # another harmonic comes first only where its eigenvalue is negative at the
+            # root by more than the root's error allows: within it, it is a nearby one
+            if modes(best[3], [n], count=1, degree=degree)[n].lowest \
+                    >= -abs(best[5]) * best[2]:
                 continue
             x_b, p_b = best[4], best[1]
-        state = {"log": []}
+        # every evaluation (x, p, mu, equilibrium), the bracket's ends from the scan
+        evals = [(x_a, p_a, low_prev.get(n, math.nan), eq_a), (x_b, p_b, ends[n], eq_b)] \
+            if best is None else [(x_a, p_a, low_prev.get(n, math.nan), eq_a)]
 
         def mu(x, deg=degree):
             eq = at(x)
-            state["eq"] = eq
             val = modes(eq, [n], count=1, degree=deg)[n].lowest
-            state["log"].append((float(eq.p), val))
+            evals.append((x, float(eq.p), val, eq))
             return val
 
         try:
             scale = max(abs(x_a), abs(x_b), 1e-12)
+            if best is not None:
+                mu(x_b)
             root = brentq(mu, x_a, x_b, xtol=tol * scale, rtol=1e-14, maxiter=100)
             # the perturbation degree's error: mu at the root on a finer degree, over the
             # slope of mu in p between the last evaluations on either side of the root
-            state["eq"] = at(root)
-            p_root = float(state["eq"].p)
-            log = sorted(state["log"])
+            eq_root = at(root)
+            p_root = float(eq_root.p)
+            log = sorted((e[1], e[2]) for e in evals if math.isfinite(e[2]))
             lo = max((q for q in log if q[0] <= p_root), default=log[0])
             hi = min((q for q in log if q[0] > p_root), default=log[-1])
             slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
-            fine = modes(state["eq"], [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
+            fine = modes(eq_root, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
+            base = _base_error(branch, at, eq_root, n, degree, slope, tol)
+            if not math.isfinite(base):
+                notes[n] = ("the axisymmetric state's discretisation error is not in the "
+                            "error estimate (its solve on the next finer discretisation "
+                            "failed)")
+                base = 0.0
+            got = (n, p_root, abs(fine / slope) + base + tol * abs(p_root), eq_root, root,
+                   slope)
         except (ValueError, RuntimeError, ConvergenceError) as exc:
-            raise ConvergenceError(f"the bifurcation into n = {n} between {name} = {p_a:.10g} "
-                                   f"and {p_b:.10g} was not located: {exc}") from exc
-        if best is None or _before(p_root, best[1], p_a, p_b):
-            best = (n, p_root, abs(fine / slope), state["eq"], root)
-    n, p, err, eq, _ = best
-    if err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
-        raise ConvergenceError(
-            f"the bifurcation into n = {n} at {name} ~ {p:.6g} (bracket {p_a:.6g} .. "
-            f"{p_b:.6g}) is not resolved: raising the perturbation degree from {degree} to "
-            f"{degree + DEGREE_STEP} moves it by ~{err:.3g}; the second variation does not "
-            f"converge with the degree at this equilibrium")
+            got = _bracketed(n, evals, exc)
+            if got is None:
+                raise ConvergenceError(f"the bifurcation into n = {n} between {name} = "
+                                       f"{p_a:.10g} and {p_b:.10g} was not located and no "
+                                       f"sign change of its eigenvalue is known: {exc}") \
+                    from exc
+            bracket_only.add(n)
+            notes[n] = (f"located to its bracket only (the root search stopped: "
+                        f"{str(exc)[:200]}): the bracket's width is the error estimate")
+        if best is None or _first(got, n in bracket_only, best, best[0] in bracket_only, p_a, p_b):
+            best = got
+    n, p, err, eq = best[:4]
+    note = notes.get(n, "")
+    if not note and err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
+        note = (f"not resolved by the discretisation: raising the perturbation degree "
+                f"from {degree} to {degree + DEGREE_STEP} and solving the state on the "
+                f"method's next finer discretisation move the root by ~{err:.3g} (more than "
+                f"{UNRESOLVED:g} of the bracket {p_a:.6g} .. {p_b:.6g}), which is its error "
+                f"estimate")
     mode = modes(eq, [n], count=1, degree=degree)[n]
-    return Instability("bifurcation", n, float(p), float(eq.w),
-                       float(err + tol * abs(p)), name, mode, cutoff, _cutoff_reason(cutoff),
-                       rows, equilibrium=eq)
+    return Instability("bifurcation", n, float(p), float(eq.w), float(err), name, mode,
+                       cutoff, _cutoff_reason(cutoff), rows, equilibrium=eq, note=note)
 
 
 def _branch_point(branch, i, degree, tol, cutoff, rows) -> Instability:
@@ -307,22 +374,221 @@ def _branch_point(branch, i, degree, tol, cutoff, rows) -> Instability:
                        equilibrium=eq, branch_point=bp)
 
 
-def _parameter_solver(branch, eq_a, eq_b):
-    """The branch's equilibrium at a prescribed parameter value, each solved from the
-    nearest one already known (a bracket can be a long continuation step: one
-    natural-parameter jump across it may not converge)."""
-    from .driver import solve
+def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
+    """Instability.nearby of the bifurcation ``found`` bracketed by points i - 1 and i
+    (their lowest eigenvalues per n: low_prev, low): the branch's points after i are scanned
+    (harmonics up to the bracket's cutoff) until p passes the window, and each harmonic
+    whose eigenvalue has turned negative by then is located between the two points where
+    it changes sign, in the order of its eigenvalue at p (the most negative crossed first:
+    the linear crossings of a long continuation step are too coarse to order a cluster),
+    until ``NEARBY_COUNT`` - 1 lie inside the window (at most ``NEARBY_COUNT`` + 2 root
+    searches)."""
+    from scipy.optimize import brentq
 
-    solved = {float(eq_a.p): eq_a, float(eq_b.p): eq_b}
+    p_c, err_c = found.p, found.error_estimate
+    sign = 1.0 if branch.points[i].p >= branch.points[i - 1].p else -1.0
+    edge = p_c + sign * NEARBY_FRACTION * abs(p_c)
+    inside = lambda p: -err_c <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)  # noqa: E731
+    fold = _fold_in(branch, i)
+    table = [(float(branch.points[i - 1].p), low_prev)]
+    if fold is None:
+        table.append((float(branch.points[i].p), low))
+        j = i
+        while sign * (table[-1][0] - edge) < 0 and j + 1 < len(branch.points) \
+                and _fold_in(branch, j + 1) is None:
+            j += 1
+            try:
+                table.append((float(branch.points[j].p), _lowest(modes(
+                    branch.equilibrium(j), sorted(low), count=1, degree=degree).spectra)))
+            except ConvergenceError:
+                break
+    # per harmonic: the first sign change in the table, and its linear crossing
+    cross = {}
+    for n in low:
+        if n < 1 or n == found.n:
+            continue
+        for k in range(1, len(table)):
+            a, b = table[k - 1][1].get(n, math.nan), table[k][1].get(n, math.nan)
+            if a > 0 >= b:
+                pa, pb = table[k - 1][0], table[k][0]
+                cross[n] = (pa + a / (a - b) * (pb - pa), i - 1 + k)
+                break
+    # the order in which they cross: their eigenvalues at p (the most negative crossed
+    # first; the linear crossings of a long step are too coarse to tell a cluster apart)
+    at_c = _lowest(modes(found.equilibrium, sorted(cross), count=1, degree=degree).spectra) \
+        if cross else {}
+    out = [(int(found.n), float(p_c), float(err_c))]
+    solvers, searches = {}, 0
+    for n, (guess, j) in sorted(cross.items(), key=lambda kv: at_c[kv[0]]):
+        if len(out) >= NEARBY_COUNT or searches >= NEARBY_COUNT + 2:
+            break
+        if at_c[n] > 0 and sign * (guess - edge) > NEARBY_FRACTION * abs(p_c):
+            continue                            # crosses well past the window
+        if at_c[n] <= 0:
+            # crossed already at p (within its error): between the bracket's points
+            j = i
+        searches += 1
+        if j not in solvers:
+            solvers[j] = _parameter_solver(branch, j, tol)
+        at = solvers[j]
+        evals = [(float(branch.points[j - 1].p), float(branch.points[j - 1].p),
+                  table[j - i][1][n], None), (float(branch.points[j].p),
+                  float(branch.points[j].p), table[j - i + 1][1][n], None)]
+
+        def mu(x, n=n, evals=evals):
+            eq = at(x)
+            val = modes(eq, [n], count=1, degree=degree)[n].lowest
+            evals.append((x, float(eq.p), val, eq))
+            return val
+
+        try:
+            x_a, x_b = evals[0][0], evals[1][0]
+            root = brentq(mu, x_a, x_b, xtol=tol * max(abs(x_a), abs(x_b)), rtol=1e-14,
+                          maxiter=100)
+            eq = at(root)
+            log = sorted((e[1], e[2]) for e in evals)
+            lo = max((q for q in log if q[0] <= root), default=log[0])
+            hi = min((q for q in log if q[0] > root), default=log[-1])
+            slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+            fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
+            base = _base_error(branch, at, eq, n, degree, slope, tol)
+            p, err = float(eq.p), abs(fine / slope) + (base if math.isfinite(base) else 0.0) \
+                + tol * abs(float(eq.p))
+        except (ValueError, RuntimeError, ConvergenceError) as exc:
+            got = _bracketed(n, evals, exc)
+            if got is None:
+                continue
+            p, err = got[1], got[2]
+        if inside(p):
+            out.append((int(n), p, float(err)))
+    return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
+
+
+def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
+    """The root's error from the axisymmetric state's discretisation: the change of the
+    eigenvalue when the state at the root is solved again on the method's next finer
+    discretisation (p held, or the monitor where ``at`` prescribes it: next to a fold),
+    over its slope in p. Without it, two methods' roots of the hemisphere under pressure at
+    R/t = 100 lay 8e-7 apart with error estimates of 5e-9 (the degree's and the root's
+    alone). 0 for a state solved elsewhere (the fold: its own estimate), nan where the
+    finer solve fails."""
+    from .continuation import ContinuationOptions
+    from .continuation.newton import newton
+
+    if id(eq) not in at.states:
+        return 0.0
+    U, p = at.states[id(eq)]
+    system = branch.system
+    try:
+        fine = system.refined()
+        Uf = system.transfer(U, p, fine)
+        alpha, beta, c = (1.0, 0.0, system.monitor(U)[0]) if at.prescribes == "monitor" \
+            else (0.0, 1.0, p)
+        for newton_tol in (ContinuationOptions().newton_tol, STATE_TOL * tol):
+            res = newton(fine, Uf, p, alpha, beta, c, tol=newton_tol, maxiter=40,
+                         fail_fast=False)
+            if res.ok:
+                break
+        else:
+            return math.nan
+        eq_f = equilibrium_from(fine, res.U, res.p)
+        mu_f = modes(eq_f, [n], count=1, degree=degree)[n].lowest
+        mu = modes(eq, [n], count=1, degree=degree)[n].lowest
+    except (ConvergenceError, ValueError, NotImplementedError):
+        return math.nan
+    # p moves with the monitor held: the eigenvalue's change includes that move's
+    return abs(mu_f - mu + slope * (p - res.p)) / abs(slope) if slope else math.nan
+
+
+def _bracketed(n, evals, exc):
+    """The answer from the evaluations of a root search that stopped (``exc``): the
+    narrowest interval over which the eigenvalue changes sign, its root by linear
+    interpolation, the interval's width as the error estimate, the equilibrium at the end
+    nearer that root; None where no evaluation pair changes sign."""
+    pts = sorted((e for e in evals if math.isfinite(e[2])), key=lambda e: e[1])
+    best = None
+    for a, b in zip(pts, pts[1:]):
+        if a[2] > 0 >= b[2] or a[2] >= 0 > b[2] or a[2] < 0 <= b[2] or a[2] <= 0 < b[2]:
+            if best is None or abs(b[1] - a[1]) < abs(best[1][1] - best[0][1]):
+                best = (a, b)
+    if best is None:
+        return None
+    a, b = best
+    t = a[2] / (a[2] - b[2]) if a[2] != b[2] else 0.5
+    p = a[1] + t * (b[1] - a[1])
+    near = a if t <= 0.5 else b
+    slope = (b[2] - a[2]) / (b[1] - a[1]) if b[1] != a[1] else math.inf
+    return (n, p, abs(b[1] - a[1]), near[3], near[0], slope)
+
+
+def _parameter_solver(branch, i, tol):
+    """The branch's equilibrium at a prescribed parameter value between points i - 1 and i,
+    on the branch's own discretisation, each solved by Newton from the nearest point already
+    known, predicted along its exact tangent (a bracket can be a long continuation step: one
+    natural-parameter jump across it may not converge).
+
+    A solve that does not converge to the continuation's tolerance is tried again to
+    ``STATE_TOL`` times the root's relative tolerance ``tol``: next to an axisymmetric
+    bifurcation at (nearly) the same load (a sphere under pressure: n = 0 buckles with the
+    n >= 1 harmonics of one spherical wave number) the Jacobian at prescribed p is nearly
+    singular, Newton converges only linearly and its updates stall at round-off amplified by
+    the condition number (~2e-8 relative at R/t = 100, 1e-5 from that load), above the
+    continuation's tolerance. A state that good moves the eigenvalue's root by about that
+    fraction of p, below the root's own tolerance."""
+    from .continuation import ContinuationOptions
+    from .continuation.arclength import point_at_parameter
+
+    known = [branch.points[i - 1], branch.points[i]]
+    solved = {float(q.p): branch.equilibrium(k) for q, k in zip(known, (i - 1, i))}
+    tight = ContinuationOptions().newton_tol
+    on_branch = _hermite(*known)
 
     def at(p):
-        near = solved[min(solved, key=lambda q: abs(q - p))]
-        if near.p == p:
-            return near
-        eq = solve(branch.scene, p, method=branch.method, guess=near, estimate_error=False)
-        solved[p] = eq
-        return eq
+        if p in solved:
+            return solved[p]
+        near = min(known, key=lambda q: abs(q.p - p))
+        dpdt = near.tangent[1]
+        U = near.U + (p - near.p) * near.dU / dpdt if dpdt != 0 else near.U
+        try:
+            q = point_at_parameter(branch.system, U, p, p, tol=tight)
+        except ConvergenceError:
+            q = point_at_parameter(branch.system, U, p, p, tol=STATE_TOL * tol, maxiter=40)
+        on_branch(q.U, p, max(tight, STATE_TOL * tol))
+        known.append(q)
+        solved[p] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
+        at.states[id(solved[p])] = (q.U, q.p)
+        return solved[p]
+    at.states = {id(solved[float(q.p)]): (q.U, q.p) for q in known}
+    at.prescribes = "parameter"
     return at
+
+
+def _hermite(a, b):
+    """A check that a state solved at p between the branch points a and b lies on their
+    branch: its distance from their cubic Hermite interpolant in p (values and exact
+    tangents) is at most ``OFF_BRANCH`` times the interpolant's own scale of error (the
+    trapezoidal defect of the bracket, O(dp^3)) or the Newton tolerance. Where the branch
+    crosses another one inside the bracket (an axisymmetric bifurcation at the same load), a
+    solve at prescribed p next to the crossing can converge on the other branch, whose
+    eigenvalues are not this branch's: a ConvergenceError then, which ends the root search
+    with the bracket found so far."""
+    dp = b.p - a.p
+    da, db = (q.dU / q.tangent[1] * dp for q in (a, b))
+    size = 1.0 + max(float(np.abs(a.U).max()), float(np.abs(b.U).max()))
+    defect = float(np.abs(b.U - a.U - (da + db) / 2).max()) / size
+
+    def check(U, p, newton_tol):
+        t = (p - a.p) / dp
+        h00, h10, h01, h11 = (2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t,
+                              -2 * t**3 + 3 * t**2, t**3 - t**2)
+        UH = h00 * a.U + h10 * da + h01 * b.U + h11 * db
+        off = float(np.abs(U - UH).max()) / size
+        if off > OFF_BRANCH * max(defect, newton_tol):
+            raise ConvergenceError(f"the state solved at p = {p:.10g} lies off the branch "
+                                   f"({off:.1e} relative from its interpolant between "
+                                   f"p = {a.p:.10g} and {b.p:.10g}, whose own error scale is "
+                                   f"{defect:.1e}): another branch crosses it there")
+    return check
 
 
 def _monitor_solver(branch, i, fold, eq_a):
@@ -344,8 +610,23 @@ def _monitor_solver(branch, i, fold, eq_a):
             q = point_at_monitor(branch.system, *near.predicted(m), m, tol=tol)
             known.append(q)
             solved[m] = equilibrium_from(branch.system, q.U, q.p, stats=branch.stats)
+            at.states[id(solved[m])] = (q.U, q.p)
         return solved[m]
+    at.states = {id(eq_a): (known[0].U, known[0].p)}
+    at.prescribes = "monitor"
     return at
+
+
+def _first(got, got_bracket, best, best_bracket, p_a, p_b) -> bool:
+    """Whether the root ``got`` replaces ``best`` as the first crossing: it comes before
+    it, except that a root known to its bracket only (``*_bracket``: p the bracket's
+    interpolated root, its width the error) does not replace a located root inside that
+    bracket, and is replaced by one."""
+    if got_bracket and not best_bracket and abs(best[1] - got[1]) <= got[2]:
+        return False
+    if best_bracket and not got_bracket and abs(got[1] - best[1]) <= best[2]:
+        return True
+    return _before(got[1], best[1], p_a, p_b)
 
 
 def _before(p, q, p_a, p_b) -> bool:

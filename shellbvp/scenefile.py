@@ -633,7 +633,9 @@ class SceneFile:
             kind=found.kind, n=None if none else int(found.n),
             p=float(self.parameter_value(found.p)),
             error_estimate=math.nan if none else float(found.error_estimate)
-            * abs(self.scale), stop=found.stop, instability=found)
+            * abs(self.scale), stop=file_remedy(found.stop), instability=found,
+            nearby=tuple((int(n), float(self.parameter_value(p)), float(e) * abs(self.scale))
+                         for n, p, e in found.nearby))
 
     def observe(self, system, U, t) -> dict:
         """{name: value in the file's units} of every observable at the discrete solution
@@ -855,6 +857,8 @@ class SceneInstability:
         error_estimate: of p (nan for none).
         stop: the branch's stop reason where nothing was found.
         instability: the engine's :class:`shellbvp.Instability` (parameter t).
+        nearby: ((n, p, error), ...) in the parameter's units
+            (:attr:`shellbvp.Instability.nearby`).
     """
 
     kind: str
@@ -863,16 +867,26 @@ class SceneInstability:
     error_estimate: float
     stop: str = field(repr=False, default="")
     instability: object = field(repr=False, default=None)
+    nearby: tuple = ()
 
     def summary(self) -> dict:
-        """The command line's JSON object ``{"kind", "n", "p", "error_estimate"}``, with
-        ``"stop"`` where nothing was found (why the branch ended there: ``to`` reached, or
-        another reason, which then bounds the answer)."""
+        """The command line's JSON object ``{"kind", "n", "p", "error_estimate",
+        "nearby"}``, with ``"stop"`` where nothing was found (why the branch ended there:
+        ``to`` reached, or another reason, which then bounds the answer) and ``"note"``
+        where p's error is larger than the tolerance asked (why). ``"nearby"``: a
+        bifurcation's cluster, ``[{"n", "p", "error_estimate"}, ...]`` (the harmonics
+        crossing within 1 % of p, :attr:`shellbvp.Instability.nearby`; [] for none)."""
         out = {"kind": self.kind, "n": self.n, "p": self.p,
                "error_estimate": self.error_estimate}
         if self.kind == "none":
             out["stop"] = self.stop
-        return _json_values(out)
+        note = getattr(self.instability, "note", "")
+        if note:
+            out["note"] = note
+        out = _json_values(out)
+        out["nearby"] = [_json_values({"n": n, "p": p, "error_estimate": e})
+                         for n, p, e in self.nearby]
+        return out
 
 
 def _json_values(d: dict) -> dict:
@@ -881,9 +895,23 @@ def _json_values(d: dict) -> dict:
             for k, v in d.items()}
 
 
+#: the engine's remedy for a branch that reached its step limit, which a scene file's user
+#: cannot take as worded (ContinuationOptions are not file keys) ...
+ENGINE_STEP_REMEDY = "raise max_steps or ds_max"
+#: ... and the file's own: ``points`` sets the limit to max(400, 4 points)
+FILE_STEP_REMEDY = ("set [solver] points = N (the step limit becomes the larger of 400 and "
+                    "4 N) or narrow [parameter] from/to")
+
+
+def file_remedy(stop: str) -> str:
+    """A stop reason with the engine's remedy for the step limit replaced by the scene
+    file's (:data:`FILE_STEP_REMEDY`)."""
+    return stop.replace(ENGINE_STEP_REMEDY, FILE_STEP_REMEDY)
+
+
 def _stop_reason(sf: SceneFile, branch, n_folds) -> str:
     if branch.stop:
-        return branch.stop
+        return file_remedy(branch.stop)
     if n_folds is not None and len(branch.folds) >= n_folds:
         return f"after {len(branch.folds)} fold(s)"
     t, (t_from, t_to) = float(branch.p[-1]), sf.t_range

@@ -221,14 +221,18 @@ def test_a_bifurcation_just_before_the_fold_is_located_in_the_monitor():
 def test_a_cap_that_does_not_snap_is_scanned_as_far_as_asked():
     """T = 1.5, below the onset of snapping: no instability along the branch. With
     kappa_max = 2 the scan ends at the first branch point past it and says so; by default it
-    runs past full eversion (apex displacement 2 H, H the rise: the everted mirror image)."""
+    runs well past full eversion (apex displacement 2 H, H the rise: the everted mirror
+    image), to kappa R0 = 6."""
     theta = 0.15
     rise = 1 - math.cos(theta)
     short = ce.first_instability(theta, H0, 1.0, kappa_max=2.0)
     assert short.kind == "none" and "kappa_max = 2" in short.stop
     assert 2.0 <= short.p < 2.5 and short.scan[-2][0] < 2.0
     full = ce.first_instability(theta, H0, 1.0)
-    assert full.kind == "none" and "full eversion" in full.stop
-    assert full.w > 2 * rise and full.p > short.p
+    # by default past full eversion, to kappa R0 = 6 (the old bound, w = 1.2 times full
+    # eversion, stopped at kappa R0 ~ 2.4)
+    assert full.p > 2.4 and full.w > 2 * rise
+    if full.kind == "none":
+        assert "default bound" in full.stop and "--kappa-max" in full.stop
     with pytest.raises(ValueError, match="kappa_max must be"):
         ce.first_instability(theta, H0, 1.0, kappa_max=-1.0)

@@ -408,6 +408,7 @@ def test_cli_stability_json():
     result = json.loads(out.stdout)
     assert result["kind"] == "fold" and result["n"] == 0
     assert result["p"] == pytest.approx(3.1506415, abs=1e-6)
+    assert result["nearby"] == [] and "note" not in result     # a fold has no cluster
 
 
 @pytest.mark.slow
@@ -419,8 +420,9 @@ def test_cli_stability_of_the_everting_cap_file_is_the_cap_modules():
             (("stability", "everting-cap", "--json"), ("stability", "--json"))]
     for r in runs:
         assert r["kind"] == "bifurcation" and r["n"] == 3
-    assert runs[0]["p"] == pytest.approx(runs[1]["p"], abs=runs[0]["p_error"]
-                                         + runs[1]["p_error"])
+        assert r["nearby"][0] == {"n": 3, "p": r["p"], "error_estimate": r["error_estimate"]}
+    assert runs[0]["p"] == pytest.approx(runs[1]["p"], abs=runs[0]["error_estimate"]
+                                         + runs[1]["error_estimate"])
 
 
 @pytest.mark.parametrize("argv,text,start", [
