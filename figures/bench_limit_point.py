@@ -23,18 +23,7 @@ Writes bench_limit_point.csv.
 
 from __future__ import annotations
 
-import os
-
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
-os.environ.setdefault("XLA_FLAGS", "--xla_cpu_multi_thread_eigen=false "
-                                   "intra_op_parallelism_threads=1")
-try:
-    os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})
-    PINNED = True
-except (AttributeError, OSError):   # not Linux: run unpinned, say so
-    PINNED = False
+from _pinned import PINNED  # first: before numpy reads its threads
 
 import dataclasses  # noqa: E402
 import statistics  # noqa: E402

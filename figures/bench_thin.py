@@ -34,18 +34,9 @@ bench_thin.csv and bench_thin.png and prints the ratios time(1e5) / time(1e2).
 
 from __future__ import annotations
 
-import os
+from _pinned import PINNED  # first: before numpy reads its threads
 
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("MKL_NUM_THREADS", "1")
-os.environ.setdefault("XLA_FLAGS", "--xla_cpu_multi_thread_eigen=false "
-                                   "intra_op_parallelism_threads=1")
-try:
-    os.sched_setaffinity(0, {max(os.sched_getaffinity(0))})
-    PINNED = True
-except (AttributeError, OSError):   # not Linux: run unpinned, say so in the output
-    PINNED = False
+import os  # noqa: E402
 
 import statistics  # noqa: E402
 import subprocess  # noqa: E402

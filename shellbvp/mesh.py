@@ -45,9 +45,9 @@ __all__ = ["Mesh", "mesh_of", "single_mesh", "layer_width", "singular_poles", "l
 #: (3 (1 - nu^2))^(1/4) at nu ~ 0.3 (1.24 at nu = 1/2, 1.32 at nu = 0): the layer's decay
 #: length is sqrt(h R) over it
 LAYER_FACTOR = 1.3
-#: ratio of the lengths of consecutive elements graded into a layer (with degree 16 per
-#: element, the hemisphere's pole deflection under a point force converged to 3e-10 at
-#: R/t = 1e4; 2 needs more elements for the same, 4 a higher degree)
+#: ratio of the lengths of consecutive elements graded into a layer (a smaller one needs
+#: more elements for the same accuracy, a larger one a higher degree; tests/test_thin_shells
+#: shows the solution independent of it)
 GRADING = 3.0
 #: the innermost element at an end, joint, break or ring, in layer widths
 CORE_ELEMENTS = 1.0
