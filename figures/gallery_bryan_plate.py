@@ -36,10 +36,10 @@ shell does see: the plate shrinks radially before it buckles). Coefficient one c
 a/t = 1000. ``ok`` also needs the difference plus the located value's error estimate within
 it. The measured difference divided by (t/a)^2 is reported at both a/t (equal values say it
 is the O((t/a)^2) term, not a discretisation error), and beside it the prebuckling strain
-q_cr (1 - nu) / (E t) of the closed form (the CSV's ``prebuckling_strain``). The mode shape: max |w - w_Bessel| over
-the meridian, both scaled to w(0) = 1, within 1e-6: the flat state is uniform, so the
-exact mode is the Bessel mode whatever the load, and the difference is the discretisation's
-(a check of the mode, not a benchmark).
+q_cr (1 - nu) / (E t) of the closed form (the CSV's ``prebuckling_strain``). The mode
+shape: max |w - w_Bessel| over the meridian, both scaled to w(0) = 1, within 1e-6: the
+flat state is uniform, so the exact mode is the Bessel mode whatever the load, and the
+difference is the discretisation's (a check of the mode, not a benchmark).
 
     python figures/gallery_bryan_plate.py [--quick]
 """
@@ -140,7 +140,8 @@ def locate(edge: str, a_over_t: float, folder: Path) -> dict:
     if mode is not None:
         w = np.asarray(mode.w[0])
         i0 = int(np.argmin(rho))
-        w = w / w[i0] * bessel_mode(edge, rho[i0:i0 + 1])[0]   # matched at the point nearest the pole
+        # scaled to the Bessel mode at the point nearest the pole
+        w = w / w[i0] * bessel_mode(edge, rho[i0:i0 + 1])[0]
         out["mode"] = (rho, w)
         out["mode_difference"] = float(np.max(np.abs(w - bessel_mode(edge, rho))))
     return out

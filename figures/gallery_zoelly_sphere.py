@@ -25,11 +25,13 @@ and a membrane prebuckling state of the undeformed radius and thickness; the sph
 (geometrically nonlinear) prebuckling compression (1 - nu) p R / (2 E t) = 0.42 % at p_cl
 changes radius and thickness by O(t/R) (lowering the load by about that much), the discrete
 l adds +0.06 %, and the shallow-shell (Donnell) terms of the classical analysis are of
-relative order 1/l^2 ~ 1 / L* = 0.3 %: together well inside 1 % at R/t = 100. The degree l's modes are degenerate in n (n = 0, 2, ..., l: the Legendre functions
-P_l^n), so several harmonics n cross zero within a fraction of a percent; the one reported
-first is the engine's lowest crossing, and ``nearby`` lists the others it bracketed. Also
-checked: the first instability is a bifurcation (not the axisymmetric fold) and its error
-estimate is below 1e-4 of p.
+relative order 1/l^2 ~ 1 / L* = 0.3 %: together well inside 1 % at R/t = 100. The
+degree l's modes are degenerate in n (the Legendre functions P_l^n, n = 0, ..., l; the
+half model keeps those even about the equator, l - n even), so several harmonics n cross
+zero within a fraction of a percent; the one reported first is the engine's lowest
+crossing, and ``nearby`` lists the others it bracketed. Also checked: the first
+instability is a bifurcation (not the axisymmetric fold) and its error estimate is below
+1e-4 of p.
 
     python figures/gallery_zoelly_sphere.py [--quick]
 """
@@ -134,7 +136,7 @@ def main(argv=None):
     ax.set_yscale("symlog", linthresh=1e-3)
     ax.legend(fontsize=7, title="last branch points scanned", title_fontsize=7)
     ax.grid(alpha=0.3, which="both")
-    ax.set_title("the spectrum per harmonic before the bifurcation: the l = 18 cluster",
+    ax.set_title("lowest eigenvalue per harmonic at the branch points: flat in n up to ~l = 18",
                  fontsize=9)
     ns = [n for n, _, _ in r["nearby"]] or [r["n"]]
     qs = [q for _, q, _ in r["nearby"]] or [r["shellbvp"]]
