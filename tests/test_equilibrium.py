@@ -35,7 +35,8 @@ def branch(method, kappa_max=3.0):
     return out
 
 
-@pytest.mark.parametrize("method", sorted(METHODS))
+@pytest.mark.parametrize("method", [pytest.param(m, marks=pytest.mark.slow) if m == "shooting"
+                                    else m for m in sorted(METHODS)])
 def test_zero_stimulus_recovers_undeformed_cap(method):
     eq = solve(CAP, 0.0, method=METHODS[method], estimate_error=False)
     assert eq.success

@@ -47,6 +47,7 @@ def lobed_state(a, K=2, degree=None):
     return f, pt
 
 
+@pytest.mark.slow
 def test_the_bifurcation_is_first_instabilitys():
     """The 2D discretisation's p_c (root of its block-n eigenvalue along its own
     axisymmetric branch) against first_instability's (another discretisation, another root

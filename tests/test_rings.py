@@ -159,6 +159,7 @@ def test_the_h_derivative_of_the_ring_jumps():
     assert rows.any()
 
 
+@pytest.mark.slow
 def test_axisymmetric_second_variation_is_stationary_under_dead_loads():
     """The second variation's energy holds the dead loads' potential with the right sign: at
     an equilibrium (solved by the spectral method) its gradient on the constraints' tangent
