@@ -32,3 +32,27 @@ def test_scene_is_the_stated_sphere():
 def test_gallery_zoelly_sphere():
     r = case.run()
     assert r["ok"], [c for c in r["checks"] if not c["ok"]]
+
+
+@pytest.mark.slow  # ~20-60 s: the branch to p_cl and the root searches of a fine spectrum
+def test_zoelly_sphere_at_R_over_t_1000(tmp_path):
+    """The same file at t = 1 mm (R/t = 1000, its range scaled with p_cl): the first
+    bifurcation within the case's 1 % of Zoelly's p_cl (the reasons shrink with t/R: the
+    prebuckling compression is ~0.04 % here, the nearest whole spherical degree closer), its
+    error estimate small beside that bound (measured: n = 49 at 0.99954 p_cl +- 1.4e-4)."""
+    import shellbvp
+
+    g = case.shell()
+    p_cl = case.classical(g["R"], 1.0, g["E"], g["nu"])
+    text = case.SCENE.read_text()
+    for old, new in (("thickness = 10.0", "thickness = 1.0"),
+                     ("to = 40.0 ", f"to = {1.6 * p_cl!r} ")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = tmp_path / "zoelly-sphere-1000.toml"
+    path.write_text(text)
+    sf = shellbvp.load_scene(path)
+    ins = sf.first_instability()
+    assert ins.kind == "bifurcation"
+    assert abs(ins.p / p_cl - 1) <= case.TOLERANCE
+    assert ins.error_estimate <= 0.1 * case.TOLERANCE * ins.p   # small beside the bound
