@@ -90,6 +90,20 @@ def print_summary(result: dict, drop=("curves",)) -> None:
     print(json.dumps({k: v for k, v in result.items() if k not in drop}))
 
 
+def scene_copy(path: Path, folder: Path, replacements) -> Path:
+    """A copy of the scene file ``path`` in ``folder`` with each (old, new) of
+    ``replacements`` made, every ``old`` found exactly once (else RuntimeError): one file,
+    several shells (a thickness, a length, a range)."""
+    text = path.read_text()
+    for old, new in replacements:
+        if text.count(old) != 1:
+            raise RuntimeError(f"{path.name}: expected one '{old}'")
+        text = text.replace(old, new)
+    copy = Path(folder) / path.name
+    copy.write_text(text)
+    return copy
+
+
 def scene_with_thickness(path: Path, t_file: float, t: float):
     """The scene file ``path`` (its line ``thickness = t_file``) loaded with the thickness t
     instead, from a temporary copy: one file, several thicknesses."""
@@ -97,16 +111,13 @@ def scene_with_thickness(path: Path, t_file: float, t: float):
 
     import shellbvp
 
-    text = path.read_text()
     key = f"thickness = {t_file}"
-    if text.count(key) != 1:
+    if path.read_text().count(key) != 1:
         raise RuntimeError(f"{path.name}: expected one line '{key}'")
     if t == t_file:
         return shellbvp.load_scene(path)
     with tempfile.TemporaryDirectory() as d:
-        copy = Path(d) / path.name
-        copy.write_text(text.replace(key, f"thickness = {t!r}"))
-        return shellbvp.load_scene(copy)
+        return shellbvp.load_scene(scene_copy(path, Path(d), [(key, f"thickness = {t!r}")]))
 
 
 def read_series(path: Path, x: str, y: str) -> dict:

@@ -25,22 +25,16 @@ import tempfile
 import time
 from pathlib import Path
 
-from _common import HERE, parser, wall_times, write_csv
+from _common import HERE, parser, scene_copy, wall_times, write_csv
 
 GALLERY = HERE.parent / "problems" / "gallery"
 
 
 def zoelly_copy(folder: Path, t: float, to: float) -> Path:
     """The Zoelly scene file with thickness t (mm) and range end ``to`` (MPa)."""
-    text = (GALLERY / "zoelly-sphere.toml").read_text()
-    for old, new in (("thickness = 10.0", f"thickness = {t!r}"),
-                     ("to = 40.0 ", f"to = {to!r} ")):
-        if text.count(old) != 1:
-            raise RuntimeError(f"zoelly-sphere.toml: expected one '{old}'")
-        text = text.replace(old, new)
-    path = folder / "zoelly-sphere-1000.toml"
-    path.write_text(text)
-    return path
+    return scene_copy(GALLERY / "zoelly-sphere.toml", folder,
+                      [("thickness = 10.0", f"thickness = {t!r}"),
+                       ("to = 40.0 ", f"to = {to!r} ")])
 
 
 def cli_seconds(path: Path) -> float:

@@ -54,7 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import HERE, finish, parser, print_summary, pyplot, write_csv
+from _common import HERE, finish, parser, print_summary, pyplot, scene_copy, write_csv
 
 ROOT = HERE.parent
 SCENES = {"simply supported": ROOT / "problems" / "gallery" / "bryan-plate-simply-supported.toml",
@@ -103,15 +103,9 @@ def scene_file(edge: str, a_over_t: float, folder: Path):
     t = A / a_over_t
     if t == T:
         return shellbvp.load_scene(path)
-    text = path.read_text()
-    for old, new in ((f"thickness = {T}", f"thickness = {t!r}"),
-                     (f"to = {TO[edge]}", f"to = {TO[edge] * (t / T)**3!r}")):
-        if text.count(old) != 1:
-            raise RuntimeError(f"{path.name}: expected one line '{old}'")
-        text = text.replace(old, new)
-    copy = folder / path.name
-    copy.write_text(text)
-    return shellbvp.load_scene(copy)
+    return shellbvp.load_scene(scene_copy(path, folder, [
+        (f"thickness = {T}", f"thickness = {t!r}"),
+        (f"to = {TO[edge]}", f"to = {TO[edge] * (t / T)**3!r}")]))
 
 
 def locate(edge: str, a_over_t: float, folder: Path) -> dict:

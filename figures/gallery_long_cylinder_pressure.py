@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from _common import HERE, finish, parser, print_summary, pyplot, write_csv
+from _common import HERE, finish, parser, print_summary, pyplot, scene_copy, write_csv
 
 ROOT = HERE.parent
 SCENE = ROOT / "problems" / "gallery" / "long-cylinder-pressure.toml"
@@ -85,16 +85,9 @@ def scene_file(L_over_R: float, folder: Path):
     half = L_over_R * R / 2
     if half == HALF:
         return shellbvp.load_scene(SCENE)
-    text = SCENE.read_text()
     to = 1.5 * von_mises(L_over_R * R)[1]
-    for old, new in ((f"z = [0.0, {HALF}]", f"z = [0.0, {half!r}]"),
-                     (f"to = {TO} ", f"to = {to!r} ")):
-        if text.count(old) != 1:
-            raise RuntimeError(f"{SCENE.name}: expected one '{old}'")
-        text = text.replace(old, new)
-    copy = folder / SCENE.name
-    copy.write_text(text)
-    return shellbvp.load_scene(copy)
+    return shellbvp.load_scene(scene_copy(SCENE, folder, [
+        (f"z = [0.0, {HALF}]", f"z = [0.0, {half!r}]"), (f"to = {TO} ", f"to = {to!r} ")]))
 
 
 def locate(L_over_R: float, folder: Path) -> dict:
