@@ -260,19 +260,20 @@ def follow(scene: Scene, *, method="spectral", p0: float = 0.0,
     refined, note = None, "not estimated (estimate_errors=False)"
     p_err, w_err, E_err = (np.full(len(pts), math.nan) for _ in range(3))
     if estimate_errors:
-        held = ["p" if k in {i for _, i in requested} else None for k in range(len(pts))]
+        asked = {i for _, i in requested}
+        held = ["p" if k in asked else None for k in range(len(pts))]
         refined = refine_points(system, pts, held=held)
         note = refined.reason
+        ratio = system.rung_ratio
         for k, (pt, fine) in enumerate(zip(pts, refined.points)):
             if fine is None:
                 continue
             U_f, p_f, m_f = fine
-            p_err[k] = change(pt.p, p_f, ratio=system.rung_ratio)
-            w_err[k] = change(pt.monitor, m_f, scene.geometry.size / H,
-                              system.rung_ratio) * H
+            p_err[k] = change(pt.p, p_f, ratio=ratio)
+            w_err[k] = change(pt.monitor, m_f, scene.geometry.size / H, ratio) * H
             if energies:
                 E_err[k] = change(E[k].sum(), sum(energy(refined.system, U_f, p_f)),
-                                  ratio=system.rung_ratio)
+                                  ratio=ratio)
     return Branch(scene=scene, p=np.array([pt.p for pt in pts]),
                   w=np.array([pt.monitor for pt in pts]) * H, energy=E.sum(axis=1),
                   stretching_energy=E[:, 0], bending_energy=E[:, 1], load_potential=E[:, 2],

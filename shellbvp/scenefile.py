@@ -773,9 +773,11 @@ class SceneBranch:
         scale = {ob.name: {"rad": math.pi, u.length_label: u.length}.get(ob.unit, 0.0)
                  for ob in sf.observables}
 
+        ratio = branch.system.rung_ratio
+
         def errors_of(observed, other):
-            return {k: (change(v, other[k], scale[k], branch.system.rung_ratio)
-                        if other is not None else math.nan) for k, v in observed.items()}
+            return {k: (change(v, other[k], scale[k], ratio) if other is not None
+                        else math.nan) for k, v in observed.items()}
 
         refined = branch.refined
         requested = {i for _, i in branch.requested}
