@@ -11,7 +11,8 @@ import math
 
 import numpy as np
 
-from .jaxsetup import jax, supported_options
+from .executables import compile_exported
+from .jaxsetup import jax
 
 import jax.numpy as jnp  # noqa: E402
 
@@ -41,7 +42,8 @@ class Packed:
     With a ``key`` (a string that identifies ``fn`` and everything it closes over) the
     exported program is kept on disk (:func:`shellbvp.cache.memo`) and a later process
     skips tracing (~1.2 s of a relaxed energy's W-jet): with JAX's persistent compilation
-    cache on as well, it then neither traces nor compiles.
+    cache on as well, the compiled program is kept too (:mod:`shellbvp.executables`), and a
+    later process neither traces, lowers nor compiles.
     """
 
     def __init__(self, fn, key: str | None = None):
@@ -51,7 +53,8 @@ class Packed:
 
     def _exported(self, n, shapes, dtypes):
         """(jax.export.Exported, leaves [(shape, dtype)], skeleton of the output tree with
-        leaf indices as leaves), from disk when the key allows."""
+        leaf indices as leaves, the program's disk key or None), from disk when the key
+        allows."""
         from jax import export
 
         sizes = [math.prod(sh) for sh in shapes]
@@ -74,26 +77,34 @@ class Packed:
             return ex, found["leaves"], skeleton
 
         if self._key is None:
-            return trace()
-        from . import cache
+            return (*trace(), None)
+        from . import cache, shipped_programs
+
+        ship = shipped_programs.ship_key(self._key, shapes, dtypes)
 
         def stored():
-            ex, leaves, skeleton = trace()
-            return ex.serialize(), leaves, skeleton
+            entry = shipped_programs.program(ship)
+            if entry is not None:
+                try:
+                    export.deserialize(entry[0])
+                except Exception:   # shipped from a JAX this one cannot read: traced
+                    entry = None
+            if entry is None:
+                ex, leaves, skeleton = trace()
+                entry = ex.serialize(), leaves, skeleton
+            return (shipped_programs.MARK, ship, *entry)
 
-        k = cache.key("exported", self._key, shapes, [str(d) for d in dtypes],
+        k = cache.key("exported", 2, self._key, shapes, [str(d) for d in dtypes],
                       jax.__version__)
-        blob, leaves, skeleton = cache.memo(k, stored)
-        return export.deserialize(blob), leaves, skeleton
+        _, _, blob, leaves, skeleton = cache.memo(k, stored)
+        return export.deserialize(blob), leaves, skeleton, k
 
     def _program(self, args):
         shapes = [tuple(np.shape(a)) for a in args]
         dtypes = [np.asarray(a).dtype for a in args]
         n = int(sum(math.prod(sh) for sh in shapes))
-        exported, leaves, skeleton = self._exported(n, shapes, dtypes)
-        program = jax.jit(exported.call).trace(
-            jax.ShapeDtypeStruct((n,), np.float64)).lower().compile(
-                compiler_options=supported_options())
+        exported, leaves, skeleton, k = self._exported(n, shapes, dtypes)
+        program = compile_exported(exported, n, k)
         tree = jax.tree_util.tree_structure(skeleton)
         ends = np.cumsum([math.prod(sh) for sh, _ in leaves])
         # per output leaf: its slice of the output vector, its shape, and the dtype it is
