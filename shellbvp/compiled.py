@@ -277,7 +277,8 @@ def _functions_of(W4, el, thickness=True):
             F = [1.0 if i == K.THICKNESS else F[i] for i in range(K.N_FIELDS)]
         return (*y, *q, h, *F, *g, *H[iu])
 
-    zero4, zero44 = jnp.zeros(4), jnp.zeros((4, 4))
+    # numpy constants: jnp.zeros here would run (and compile) eagerly at build time
+    zero4, zero44 = np.zeros(4), np.zeros((4, 4))
 
     def X_of(y, q, F, h):
         return _arr(el["X"](*args(y, q, F, zero4, zero44, h)))

@@ -22,7 +22,9 @@ rejected on reload where the host's features differ (a recompile, not a crash). 
 call can run in any process (a notebook, a cluster worker) with programs far larger than
 the command line's, so the library keeps the cache off by default: a crash is worse than a
 recompile. ``SHELLBVP_JAX_CACHE=on`` / ``off`` overrides both defaults; a cache the user
-configured in JAX itself is left alone.
+configured in JAX itself is left alone. Where the cache is on, the package's own compiled
+programs are also kept as executables (:mod:`shellbvp.executables`), which a later process
+loads without lowering them.
 """
 
 from __future__ import annotations
@@ -73,14 +75,23 @@ def supported_options(options: tuple = COMPILER_OPTIONS) -> dict:
     """``options`` ((name, value) pairs) as the ``compiler_options`` of a compilation, or {}
     where this jaxlib does not know one of them (probed once, on a one-operation program:
     XLA refuses an unknown option with an error, which would otherwise surface at a
-    solver's first call)."""
+    solver's first call). The verdict is kept in the cache folder per jaxlib version, so
+    that a later process does not compile the probe."""
     if not options:
         return {}
-    try:
-        jax.jit(lambda x: x + 1.0).lower(1.0).compile(compiler_options=dict(options))
-    except Exception:   # JaxRuntimeError "No such compile option", or an older signature
-        return {}
-    return dict(options)
+    import jaxlib
+
+    from .cache import key, memo
+
+    def probe():
+        try:
+            jax.jit(lambda x: x + 1.0).lower(1.0).compile(compiler_options=dict(options))
+        except Exception:   # JaxRuntimeError "No such compile option", or an older signature
+            return False
+        return True
+
+    known = memo(key("xla-options", options, jax.__version__, jaxlib.__version__), probe)
+    return dict(options) if known else {}
 
 
 def jit(fn, **kwargs):

@@ -83,12 +83,18 @@ def monitor_and_gradient(ya, yb, terms, poles, refs, scale, xp):
 
 @lru_cache(maxsize=None)
 def package_source() -> str:
-    """A hash of the package's source (every .py file): part of every disk key of code."""
+    """A hash of the package's source (every .py file): part of every disk key of code.
+
+    The scenes (``shellbvp.problems``) are left out: they live outside the package folder in
+    a checkout and inside it in an installed wheel, and the digest must be the same in both
+    (a scene's functions enter a key by their own file's digest, :func:`_function_key`)."""
     from pathlib import Path
 
     from .cache import files_digest
 
-    return files_digest(sorted(Path(__file__).parent.rglob("*.py")))
+    root = Path(__file__).parent
+    return files_digest(p for p in sorted(root.rglob("*.py"))
+                        if p.relative_to(root).parts[0] != "problems")
 
 
 def _function_key(fn):
@@ -523,9 +529,10 @@ def untraceable(scene) -> str:
 
 def _untraceable(scene) -> str:
     n_c = len(scene.field_parameters)
+    # abstract arguments: eval_shape traces without running anything (a concrete scalar
+    # would compile a conversion program eagerly)
+    s = p = jax.ShapeDtypeStruct((), jnp.float64)
     for i in range(scene.pieces):
-        s, p = jnp.float64(0.5 * (scene.piece_ends[i] + scene.piece_ends[i + 1])), \
-            jnp.float64(0.0)
         for name in ("fields", "through_thickness", "thickness"):
             fn = getattr(scene, name)
             if fn is None:
@@ -555,8 +562,7 @@ def _untraceable(scene) -> str:
                 return f"scene {name} must return {what}, got shape {out.shape}"
     if scene.pressure is not None:
         try:
-            out = jax.eval_shape(lambda: jnp.asarray(scene.pressure(jnp.float64(0.0)),
-                                                     jnp.float64))
+            out = jax.eval_shape(lambda p: jnp.asarray(scene.pressure(p), jnp.float64), p)
         except Exception as exc:
             return (f"scene pressure must be written with array arithmetic or jax.numpy (it "
                     f"is traced by JAX); pressure(p) failed: {type(exc).__name__}: "
