@@ -3,8 +3,8 @@ stimulus on the patch s < Theta/4, two pieces with an exact interface, free apex
 
 References: the undeformed cap (closed form) at zero stimulus; a second method (scipy's
 solve_bvp collocation, its own adaptive mesh) for the Chebyshev solution; the first variation
-of the energy by quadrature (complex step, not from the ODEs) for stationarity; sympy's
-Hessian of the derived energy for the ellipticity monitor.
+of the energy by quadrature (complex step, not from the ODEs: tests/quadrature.py) for
+stationarity; sympy's Hessian of the derived energy for the ellipticity monitor.
 """
 
 import math
@@ -17,9 +17,10 @@ import sympy as sp
 
 import shellbvp
 from shellbvp import Collocation
-from shellbvp.bvp import ShellBVP
 from shellbvp.problems import budding as bd
 from shellbvp.ellipticity import ellipticity
+
+from quadrature import first_variation
 
 
 @lru_cache(maxsize=None)
@@ -118,72 +119,6 @@ def test_branch_stops_where_the_energy_loses_ellipticity():
         assert eq.success and abs(eq.w - b.w[i]) <= 1e-12
 
 
-def _first_variation(eq, directions, n=3000):
-    """dE/d delta along admissible directions (phi = delta theta with its derivative dphi,
-    psi = delta lam1) with
-    delta r, delta z = 0 at the clamped edge: each direction is completed by two fixed
-    ones so that the edge does not move. E = 2 pi int W g1 g2 sin s ds by Simpson's rule on
-    each piece (the fields jump at the interface), complex step in delta."""
-    from scipy.integrate import cumulative_simpson, simpson
-
-    sc = eq.scene
-    bvp = ShellBVP(sc)
-    pieces = np.stack([np.linspace(a, b, 2 * n + 1) for a, b in zip(bvp.a, bvp.b)])
-    # the interface node belongs to both pieces, each with its own fields (row i = piece i)
-    Ys = np.stack([eq.unknowns(s) for s in pieces])
-    Ys[0, :, -1] = Ys[1, :, 0]
-    X, F = bvp.state(pieces, Ys, eq.p)
-    state = [(pieces[i], Ys[i], X[i], F[i]) for i in range(bvp.P)]
-
-    def parts(phi, dphi, psi):
-        """(d lam1, d theta, d theta', d r, d z) on every piece; r, z integrated from the
-        pole across the interface."""
-        out, r0, z0 = [], 0.0, 0.0
-        for s, y, X, F in state:
-            g1 = F[0]
-            lam1, th = X[0], y[2]
-            dr = r0 + cumulative_simpson(g1 * (psi(s) * np.cos(th) - lam1 * np.sin(th) * phi(s)),
-                                         x=s, initial=0.0)
-            dz = z0 + cumulative_simpson(g1 * (-psi(s) * np.sin(th) - lam1 * np.cos(th) * phi(s)),
-                                         x=s, initial=0.0)
-            r0, z0 = dr[-1], dz[-1]
-            out.append((psi(s), phi(s), dphi(s), dr, dz))
-        return out
-
-    def dE(var):
-        d = 1e-20
-        total = 0.0
-        for (s, y, X, F), (dl, dth, ddth, dr, _) in zip(state, var):
-            g1, g2, kb1, kb2 = F
-            lam1, k1 = X[0], X[2]
-            l1c = lam1 + 1j * d * dl
-            thp = -g1 * lam1 * k1 + 1j * d * ddth
-            rc = y[0] + 1j * d * dr
-            W = shellbvp.energy_density(l1c, rc / (g2 * np.sin(s)), -thp / (g1 * l1c),
-                                        -np.sin(y[2] + 1j * d * dth) / rc, kb1, kb2, h=sc.h,
-                                        lam=sc.lam, model=sc.model, material=sc.material)
-            total += simpson(np.imag(W) / d * g1 * g2 * np.sin(s), x=s)
-        return 2 * math.pi * total
-
-    T = sc.length
-    # delta theta must vanish at the apex too (theta(0) = 0): every phi is O(s^2) there, or
-    # the boundary term M(eps) phi(eps) of the truncated integral (~4e-10 here) remains
-    q = math.pi / T
-    fixers = [(lambda s: 0 * s, lambda s: 0 * s, lambda s: np.sin(q * s) ** 2),
-              (lambda s: np.sin(q * s) ** 2, lambda s: q * np.sin(2 * q * s), lambda s: 0 * s)]
-    fix = [parts(*f) for f in fixers]
-    out = []
-    for phi, dphi, psi in directions:
-        v = parts(phi, dphi, psi)
-        # edge displacement of each, then coefficients that cancel it
-        A = np.array([[f[-1][3][-1], f[-1][4][-1]] for f in fix]).T
-        c = np.linalg.solve(A, -np.array([v[-1][3][-1], v[-1][4][-1]]))
-        comb = [tuple(a + c[0] * b + c[1] * e for a, b, e in zip(vp, f0, f1))
-                for vp, f0, f1 in zip(v, fix[0], fix[1])]
-        out.append(dE(comb))
-    return out
-
-
 def test_equilibrium_is_stationary_for_the_energy():
     """The first variation vanishes at the kbar = 20 equilibrium (relative to its value at
     an equilibrium of another kbar) for admissible variations (theta(0) = 0, edge clamped)."""
@@ -198,8 +133,8 @@ def test_equilibrium_is_stationary_for_the_energy():
     for eta_a, eta_b in ((0.0, 1.0),):
         eq = at(eta_a, eta_b, 20.0)
         off20 = replace(at(eta_a, eta_b, 10.0), p=20.0)   # not an equilibrium at kbar = 20
-        at_eq = _first_variation(eq, directions)
-        scale = _first_variation(off20, directions)
+        at_eq = first_variation(eq, directions)
+        scale = first_variation(off20, directions)
         for a, b in zip(at_eq, scale):
             assert abs(b) > 1e-6
             assert abs(a) <= 1e-6 * abs(b), (eta_a, eta_b, a, b)

@@ -123,11 +123,12 @@ def test_energy_method_equilibrium_is_stationary_by_an_independent_quadrature():
     """eta = (0, 1), kbar = 20: w and the energy agree with the spectral solution, and the
     first variation of the reduced energy,
     by Simpson's rule on 3000 panels with complex steps through the first-order system's own
-    state (tests/test_budding.py), vanishes at the energy method's equilibrium relative to
+    state (tests/quadrature.py), vanishes at the energy method's equilibrium relative to
     its value at a state that is not an equilibrium."""
     from dataclasses import replace
 
-    from test_budding import _first_variation, at as spectral_at
+    from quadrature import first_variation
+    from test_budding import at as spectral_at
 
     T = budding.THETA
     w = 2 * math.pi / T
@@ -138,7 +139,7 @@ def test_energy_method_equilibrium_is_stationary_by_an_independent_quadrature():
     assert eq.w == pytest.approx(ref.w, abs=1e-10)
     assert eq.energy == pytest.approx(ref.energy, rel=1e-9)
     off = replace(budding.equilibrium(0.0, 1.0, 10.0, method=Ritz(degree=DEG)), p=20.0)
-    for a, b in zip(_first_variation(eq, directions), _first_variation(off, directions)):
+    for a, b in zip(first_variation(eq, directions), first_variation(off, directions)):
         assert abs(b) > 1e-6 and abs(a) <= 1e-6 * abs(b)
 
 
