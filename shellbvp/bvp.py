@@ -32,8 +32,9 @@ moment and forces, so that bending and membrane unknowns have the same size):
 * **other ends** (:class:`shellbvp.scene.End`): ``free`` (m, f_r, f_z given by the line
   loads: F(second end) = Q and F(first end) = -Q per radian, Q the load per unit reference
   length times r0), ``clamped`` (r, z, theta at the reference's values), ``hinged`` (r, z;
-  m given), ``roller`` (z; f_r, m given), ``sliding`` (z, theta; f_r given), ``symmetry``
-  (theta at the reference's, f_r = 0, f_z given), and at the pinned end z at its reference height in place of f_z;
+  m given), ``roller`` (z; f_r, m given), ``sliding`` (z, theta; f_r given), ``diaphragm``
+  (r; f_z, m given), ``symmetry`` (theta at the reference's, f_r = 0, f_z given), and at
+  the pinned end z at its reference height in place of f_z;
 * **rings** (:class:`shellbvp.scene.Ring`), dead forces on circles of the meridian: each
   is an interface across which (f_r, f_z) jump by -(12/h^2) Q, Q its total force per
   radian (:meth:`ShellBVP.jumps_at`);

@@ -14,7 +14,8 @@ of degree ``degree`` per piece, coefficients laid out as in :mod:`shellbvp.harmo
 without its expansion to second order:
 
     E = int int [ W(a, b; abar, bbar) t g1 g2 r0 + (P / 3) x . (x_s x x_omega) ] ds domega
-        + the lids of a pressure at the ends that move in their plane (roller, symmetry)
+        + the lids of a pressure at the ends that move in their plane (roller, sliding,
+          symmetry) or keep their radius (diaphragm) (:data:`shellbvp.harmonics.LID_ENDS`)
         - the dead end loads' work (a pole's force, a free end's axial and radial line loads)
 
 per mu* h0 R0^2, W the reduced energy of general forms (:func:`shellbvp.forms.reduced_energy`)
@@ -239,7 +240,7 @@ class Fourier2D:
             for e, (sigma, (i, side), end) in enumerate(zip((1.0, -1.0),
                                                             ((0, "a"), (P - 1, "b")),
                                                             sc.ends)):
-                if end.kind in ("roller", "symmetry", "sliding"):
+                if end.kind in _H.LID_ENDS:
                     self._lids.append((e, sigma, b.ends[(i, side)][3]))
         self._loaded = [e.loaded and e.displacement is None for e in sc.ends]
         self._joints = tuple(self._joint(i) for i in range(P - 1))
@@ -474,6 +475,7 @@ class Fourier2D:
                     wq=self.base.wq.reshape(-1), ww=self.w_weights,
                     ends=tuple(tuple(rows) for rows in self._end_rows),
                     lids=np.array([sigma * z for _, sigma, z in self._lids]),
+                    lid_signs=np.array([sigma for _, sigma, _ in self._lids]),
                     joints=self._joints,
                     rims=np.array([self.base.ends[(0, "a")][2],
                                    self.base.ends[(self.base.s.shape[0] - 1, "b")][2]]))
@@ -660,10 +662,22 @@ class Fourier2D:
         return Hm
 
     def _lid_gradient(self, y, P) -> np.ndarray:
+        """The lids' gradient: the flat lid's, and the rim's axial lift (the energy's
+        ``lift``), which on the admissible set is linear, (1/3) sigma pi r_e^2 U_z^0: every
+        end in :data:`shellbvp.harmonics.LID_ENDS` holds either U_z (in its plane) or
+        U_r and U_w (a diaphragm) on its rim, so the lift's products of the two vanish there,
+        and with them its Hessian."""
         g = np.zeros(self.size)
+        C, _, _ = self._trig
+        mean = C @ self.w_weights                      # int cos(k omega) domega per harmonic
         for e, sigma, z in self._lids:
             R, Hq, lin = self._lid_parts(e)
             g += P * sigma * z / 3.0 * R.T @ (Hq @ (R @ y) + lin)
+            r_e = self._data["rims"][e]
+            for j in range(self.K + 1):
+                rows = self._end_rows[e][j][2]
+                g[self.offsets[j]:self.offsets[j + 1]] += (P * sigma / 3.0 * 0.5 * r_e**2
+                                                           * mean[j] * rows)
         return g
 
     def energy_gradient_hessian(self, y, p=None):
@@ -848,13 +862,17 @@ def _programs(model: str, material: str, lid_ends: tuple, joints: int = 0) -> di
             E = E - 2 * math.pi * (loads[e, 0] * U[0, 0] + loads[e, 1] * U[2, 0])
         C, S, ks = data["C"], data["S"], data["ks"][:, 0]
         for j, e in enumerate(lid_ends):
-            # the flat lid in the end's plane: (1/3) sigma z_e times the area the rim
-            # (r_e + dx) encloses, 1/2 int (x x x_o) . e_z domega (exact: a trig polynomial)
+            # the lid ruled from the axis to the rim (r_e + dx) at its height z_e + U_z:
+            # (1/3) sigma 1/2 int (z_e + U_z) (x x x_o) . e_z domega (exact: a trig
+            # polynomial); U_z = 0 on the rim of an end that keeps its plane (the flat lid,
+            # z_e times the area the rim encloses), U_r = U_w = 0 on a diaphragm's
             U = end_values(y, data, e)
             Xr, Xw = data["rims"][e] + U[0] @ C, U[1] @ S
             Xr_o, Xw_o = (-ks * U[0]) @ S, (ks * U[1]) @ C
-            area = 0.5 * jnp.sum(ww * (Xr * (Xw_o + Xr) - Xw * (Xr_o - Xw)))
-            E = E + P * data["lids"][j] * area / 3.0
+            swept = ww * (Xr * (Xw_o + Xr) - Xw * (Xr_o - Xw))
+            area = 0.5 * jnp.sum(swept)
+            lift = 0.5 * jnp.sum(swept * (U[2] @ C))
+            E = E + P * (data["lids"][j] * area + data["lid_signs"][j] * lift) / 3.0
         ny, nK = y.shape[0] - joints * C.shape[0], C.shape[0]
         for i, jt in enumerate(data["joints"]):     # the Lagrangian E - lambda . c
             lam = y[ny + i * nK:ny + (i + 1) * nK]

@@ -12,9 +12,10 @@ w = U_r sin(theta) + U_z cos(theta), a pointwise rotation in the meridional plan
 is E = int int W(a, b; abar, bbar) dA_target + P V, W the reduced energy of general forms
 (:mod:`shellbvp.forms`), a_ij = x_i . x_j, b_ij = x_ij . N, and for a pressure P
 (follower load) V = (1/3) int int x . (x_s x x_omega) ds domega plus, at an end that moves in
-its own plane (roller, symmetry), the flat lid that closes the rim (:func:`_lid_stiffness`):
-the volume of the axisymmetric solve, whose variation is the follower load. An end free to
-leave its plane has no such lid, and a pressure there is refused (no potential).
+its own plane (roller, sliding, symmetry) or keeps its radius (diaphragm), the lid that closes
+the rim (:data:`LID_ENDS`, :func:`_lid_stiffness`): the volume of the axisymmetric solve,
+whose variation is the follower load. An end free to leave its plane and change its radius
+(free) has no such lid, and a pressure there is refused (no potential).
 
 Decoupling. The density depends on (x, x_s, x_omega, x_ss, x_somega, x_omegaomega) at a point,
 and is invariant under rotations about the axis, so its Hessian H in these 18 numbers, written
@@ -44,7 +45,8 @@ r^(n -+ 1)), imposed at each end on the axis:
 
 The other ends (:class:`shellbvp.scene.End`): a clamped end has U = 0 and no rotation of
 the tangent out of the surface, U_r' sin(theta) + U_z' cos(theta) = 0; a hinged end U = 0; a
-roller U_z = 0; a symmetry end (a mirror plane normal to the axis) U_z = 0 and no rotation:
+roller U_z = 0; a sliding end U_z = 0 and no rotation; a diaphragm U_r = U_w = 0 (the end
+ring keeps its radius and its points their azimuth; U_z, the warping, is free); a symmetry end (a mirror plane normal to the axis) U_z = 0 and no rotation:
 only the modes symmetric about that plane are seen, as in the axisymmetric problem (the
 antisymmetric ones of the whole shell need the whole meridian); a free end none. Across an
 interface (a joint of the geometry or a break of the stimulus) U and the rotation
@@ -413,8 +415,11 @@ def _pole_class(n: int) -> int:
 #: the displacement components (U_r, U_w, U_z) each kind of end holds, and whether it holds
 #: the rotation of the tangent out of the surface
 HOLDS = {"clamped": ((0, 1, 2), True), "hinged": ((0, 1, 2), False), "roller": ((2,), False),
-         "sliding": ((2,), True),
+         "sliding": ((2,), True), "diaphragm": ((0, 1), False),
          "symmetry": ((2,), True), "free": ((), False)}
+#: the ends whose rim a pressure's lid closes (:func:`_lid_stiffness`): those that move in
+#: their own plane, and the diaphragm, whose rim keeps its radius while it warps axially
+LID_ENDS = ("roller", "symmetry", "sliding", "diaphragm")
 
 
 def _constraints(base: _Base, n: int) -> np.ndarray:
@@ -628,21 +633,26 @@ def _lid_stiffness(base: _Base, n: int) -> np.ndarray | float:
     """The pressure's stiffness from the lids that close an open shell at its moving ends.
 
     The density's load term (1/3) x . (x_s x x_o) integrates to the volume of the cone from
-    the origin to the surface; the closed volume adds, at each end that is not a pole, the
-    flat lid in the end's plane z_e (held: roller, symmetry; a clamped or hinged end does not
-    move), (1/3) sigma_e z_e A_e with sigma = +1 at the first end, -1 at the second, and A_e
-    the area the rim encloses. With the rim at r_e + U_r cos(n omega), U_w sin(n omega),
+    the origin to the surface; the closed volume adds, at each end of :data:`LID_ENDS`, the
+    lid ruled by the segments from the axis to the rim at its height Z(omega),
+    (1/3) sigma_e (1/2) int Z (x x x_o) . e_z domega, sigma = +1 at the first end, -1 at the
+    second (a clamped or hinged end does not move). Where the end keeps its plane (roller,
+    sliding, symmetry: Z = z_e) it is the flat lid (1/3) sigma_e z_e A_e, A_e the area the
+    rim encloses; with the rim at r_e + U_r cos(n omega), U_w sin(n omega),
     A_e = pi r_e^2 + (pi / 2)(U_r^2 + U_w^2 + 2 n U_r U_w) exactly (n >= 1; at n = 0 the
     twist U_w adds pi U_w^2), so the term's Hessian is P sigma_e z_e / 3 [[1, n], [n, 1]] in
     (U_r, U_w), times the omega weight. Every rigid motion then leaves the closed volume,
     so it costs no energy, and the variation of the closed volume is the follower load on
-    the shell alone (the lid moves in its own plane)."""
+    the shell alone (the lid moves in its own plane). At a diaphragm U_r = U_w = 0 on the
+    rim, so the lid is (1/3) sigma_e pi r_e^2 (z_e + U_z^0), linear in the rim's axial
+    displacement: the lid's pressure is a dead axial force there (in the axisymmetric solve
+    too), with no stiffness (the rows below vanish on the admissible set)."""
     if base.pressure == 0.0:
         return 0.0
     P = base.s.shape[0]
     K = 0.0
     for sigma, (i, side), kind in zip((1.0, -1.0), ((0, "a"), (P - 1, "b")), base.kinds):
-        if kind not in ("roller", "symmetry", "sliding"):
+        if kind not in LID_ENDS:
             continue
         z = base.ends[(i, side)][3]
         rows = np.array([_end_rows(base, i, side, 0, c) for c in (0, 1)])
@@ -728,8 +738,8 @@ def modes(eq: Equilibrium, n=range(0, 21), *, count: int = 3, degree: int | None
         raise ValueError(f"a follower pressure on a shell whose {free[0]} end is free has no "
                          "potential beyond axisymmetry (no lid closes a rim that leaves its "
                          "plane), so its second variation is not an energy's; modes need "
-                         "every end a pole or in a fixed plane (clamped, hinged, roller, "
-                         "symmetry)")
+                         "every end a pole, in a fixed plane or of a fixed radius (clamped, "
+                         "hinged, roller, sliding, diaphragm, symmetry)")
     from threadpoolctl import threadpool_limits
 
     base = _base(eq, int(degree))

@@ -335,6 +335,8 @@ def _build(scene, log_poles, key) -> Kernels:
             rows = (z_row, given(fr, "radial"), given(m, "moment"))
         elif kind == "sliding":
             rows = (z_row, given(fr, "radial"), th - ref["theta"])
+        elif kind == "diaphragm":
+            rows = (r - ref["r"], fz_row, given(m, "moment"))
         else:                                   # symmetry
             rows = (th - ref["theta"], fr, fz_row)
         return jnp.stack(rows)

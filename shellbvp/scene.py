@@ -23,8 +23,8 @@ as are the joints of the geometry. Fields use array arithmetic only (they are tr
 JAX).
 
 The ends (:class:`End`) say what holds each end of the meridian: ``pole`` (an end on the
-axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller``, ``sliding`` or
-``symmetry``, with given line loads where they are free to move. An axisymmetric shell has one rigid motion
+axis, regular there), ``free``, ``clamped``, ``hinged``, ``roller``, ``sliding``,
+``diaphragm`` or ``symmetry``, with given line loads where they are free to move. An axisymmetric shell has one rigid motion
 its unknowns see, the axial translation; a scene whose ends do not fix the axial position
 has it removed by holding the first end's z (:attr:`Scene.pinned`), with the axial force
 there left free: it is zero when the loads balance, as they must for a free body. Ring
@@ -86,6 +86,9 @@ END_KINDS = {
     "roller": "z fixed; the radial force and the moment given",
     "sliding": ("z and theta fixed at the reference's values (a clamp that slides "
                 "radially); the radial force given"),
+    "diaphragm": ("r fixed at the reference's value (a shear diaphragm: the end ring keeps "
+                  "its radius, in the harmonics also the circumferential displacement held), "
+                  "z free; the axial force and the moment given (line loads, default zero)"),
     "symmetry": ("a mirror plane normal to the axis: theta fixed (the tangent parallel to "
                  "the axis), no shear (F_r = 0), the axial force given"),
 }
@@ -97,7 +100,7 @@ FIXES_Z = ("clamped", "hinged", "roller", "sliding")
 #: the line loads each kind of end accepts (where it is free to move)
 LOADS_OF = {"pole": ("force", "displacement"), "free": ("axial", "radial", "moment"), "clamped": (),
             "hinged": ("moment",), "roller": ("radial", "moment"), "symmetry": ("axial",),
-            "sliding": ("radial",)}
+            "sliding": ("radial",), "diaphragm": ("axial", "moment")}
 
 
 def lam_max(h: float) -> float:
@@ -159,7 +162,7 @@ class End:
 
     Attributes:
         kind: ``"pole"``, ``"free"``, ``"clamped"``, ``"hinged"``, ``"roller"``,
-            ``"sliding"`` or ``"symmetry"``.
+            ``"sliding"``, ``"diaphragm"`` or ``"symmetry"``.
         axial, radial: line forces per unit length of the reference edge along +z and +r
             (per mu* h: a force per length over mu* h is a pure number), functions of the
             parameter p (a number: constant), or None (zero); only where the end is free to
@@ -501,8 +504,8 @@ class Scene:
             if end.kind == "pole" and not pole:
                 r0 = geo.at_end(which)[0]
                 raise ValueError(f"the {which} end is a 'pole' but lies at r = {r0:.6g}, not "
-                                 f"on the axis: choose free, clamped, hinged, roller or "
-                                 f"symmetry")
+                                 f"on the axis: choose free, clamped, hinged, roller, "
+                                 f"sliding, diaphragm or symmetry")
             if end.kind == "symmetry":
                 theta0 = geo.at_end(which)[2]
                 if abs(math.cos(theta0)) > 1e-9:
@@ -575,7 +578,7 @@ class Scene:
             # both ends hold z: the radial displacement of an end that leaves r free, else
             # the rotation of one that leaves theta free (a clamped-clamped shell has no end
             # that moves: give a monitor, or observe an interior point in a scene file)
-            for comp, holds in (("r", ("clamped", "hinged", "pole")),
+            for comp, holds in (("r", ("clamped", "hinged", "pole", "diaphragm")),
                                 ("theta", ("clamped", "symmetry", "pole", "sliding"))):
                 for end in (1, 0):
                     if self.ends[end].kind not in holds:

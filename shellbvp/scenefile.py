@@ -1300,7 +1300,7 @@ def _ends(top, meridian, units, param):
         if kind == "pole" and not pole:
             raise ValueError(f"ends.{w}: 'pole' but the meridian's {w} end is at "
                              f"r = {r0 * units.length:.6g}; choose free, clamped, hinged, "
-                             f"roller or symmetry")
+                             f"roller, sliding, diaphragm or symmetry")
         if kind == "symmetry" and abs(math.cos(theta0)) > 1e-9:
             raise ValueError(f"ends.{w}: 'symmetry' needs the tangent parallel to the axis "
                              f"there (a mirror plane normal to the axis); it makes "

@@ -14,8 +14,8 @@ at the Chebyshev points of every piece (lam1 may jump at an interface, theta may
 for a kink of the geometry, where it turns by the reference's angle), E is evaluated by
 Clenshaw-Curtis quadrature with r from spectral integration, and its Hessian is taken by
 JAX. The constraints (regular poles theta - theta_pole = (s - s_pole) theta', the
-interfaces, and the ends' fixed values: r and theta at a clamped end, r at a hinged one,
-theta at a symmetry end, and where both ends hold z their distance int g1 lam1 sin(theta)
+interfaces, and the ends' fixed values: r and theta at a clamped end, r at a hinged or
+diaphragm one, theta at a sliding or symmetry end, and where both ends hold z their distance int g1 lam1 sin(theta)
 ds) enter through the Hessian of the Lagrangian on their tangent space, with multipliers
 from the gradient (least squares). The eigenvalues of that reduced Hessian against the
 quadrature mass of the surface are the discrete second variation: all positive at a stable
@@ -198,7 +198,7 @@ def second_variation(eq, *, nodes: int | None = None, count: int = 4) -> SecondV
             r0, _, th0 = ref[k]
             if kinds[k] in ("clamped", "symmetry", "sliding"):
                 rows.append(th[i, j] - th0)
-            if kinds[k] in ("clamped", "hinged"):
+            if kinds[k] in ("clamped", "hinged", "diaphragm"):
                 rows.append(r[i, j] - r0)
         if all(e.fixes_z for e in sc.ends):
             rows.append(drop(th, l1) - (ref[0][1] + moved[0] - ref[1][1] - moved[1]))

@@ -37,8 +37,8 @@ What it does not need:
   strains do not.
 
 Ends (:class:`shellbvp.scene.End`): the fixed values of theta and r are removed from the
-unknowns (a pole: theta at a right angle to the axis, r = 0; clamped: theta, r; hinged: r;
-symmetry: theta); forces and moments are natural, their given line loads enter the energy
+unknowns (a pole: theta at a right angle to the axis, r = 0; clamped: theta, r; hinged and
+diaphragm: r; sliding and symmetry: theta); forces and moments are natural, their given line loads enter the energy
 as the potential of dead loads on the end. The axial position z never enters the energy
 (z' = -Lambda sin theta is integrated afterwards, I = int Lambda sin theta ds the drop from
 the first end to the second): an end that fixes z holds the other's position through I, an
@@ -497,7 +497,7 @@ class RitzSystem:
                 fixed[r_node] = 0.0
             if end.kind in ("clamped", "symmetry", "sliding"):
                 fixed[th_node] = float(th0) - offset
-            if end.kind in ("clamped", "hinged"):
+            if end.kind in ("clamped", "hinged", "diaphragm"):
                 fixed[r_node] = float(r0)
         self.fixed = np.zeros(self.n_full)
         free = np.ones(self.n_full, dtype=bool)
