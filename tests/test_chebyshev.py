@@ -113,6 +113,7 @@ def test_mirror_branch_is_the_point_reflection_of_the_primary_branch():
     assert mirror.monitor == pytest.approx(2.0 - primary.monitor, abs=1e-8)
 
 
+@pytest.mark.slow
 def test_shallow_cap_branch_is_point_symmetric_about_the_flat_state():
     """For a shallow cap (T = 2.5) the branch from kappa = 0 passes through the flat state
     (w = H, kappa = 1) and is itself point-symmetric: its two folds are each other's

@@ -21,6 +21,7 @@ def test_closed_form_roots():
     assert case.root("clamped (sliding)") == pytest.approx(3.8317059702, abs=1e-9)
 
 
+@pytest.mark.slow
 def test_clamped_plate_buckles_at_bryan_load():
     """The sliding clamped plate at a/t = 100 (one plate, ~10 s): an n = 0 bifurcation at
     q_cr a^2 / D within (x t/a)^2 = 1.5e-3 of j_{1,1}^2, its mode the Bessel mode to 1e-6."""

@@ -23,6 +23,7 @@ def test_estimate_table_and_ansatz():
         assert case.ritz_curvature(K, nu) == pytest.approx(A, rel=1e-10)
 
 
+@pytest.mark.slow
 def test_small_curvature_is_the_stress_free_sphere():
     """At K = kappa R^2/h <= 0.1 the free disc takes the stress-free sphere of curvature
     kappa (the sign convention: kb = kappa > 0 on a disc traced outward with normal +z gives

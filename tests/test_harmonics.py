@@ -107,6 +107,7 @@ def test_clamped_cap_under_pressure_bifurcates_as_published_at_lambda_6():
     assert inst.p < 0.8 * snap
 
 
+@pytest.mark.slow
 def test_a_stimulus_interface_converges_with_the_degree():
     """Budding's patch edge, where the curvature and the stretch jump: the tangent-plane
     condition is not linear there, and only the Lagrangian's second variation converges
@@ -157,6 +158,7 @@ def _sphere_spectra(ends, centre_z=0.0):
     return H.modes(shellbvp.solve(sc, 0.02), n=range(4), count=3, degree=48)
 
 
+@pytest.mark.slow
 def test_pressurised_sphere_spectrum_is_degenerate_and_the_half_sphere_shares_it():
     """A pressurised sphere is rotation invariant, so the eigenvalues of its second variation
     depend on the spherical-harmonic degree only: every level of the closed sphere recurs

@@ -58,6 +58,7 @@ def test_the_bifurcation_is_first_instabilitys():
     assert abs(p_c - ins.p) <= ins.error_estimate, (p_c, ins.p, ins.error_estimate)
 
 
+@pytest.mark.slow
 def test_the_eigenvalues_rate_is_its_central_difference():
     """mu_n'(p_c) from the Hessian's exact rate along the axisymmetric branch against
     central differences of mu_n with Richardson's extrapolation (steps 2e-3 and 1e-3: mu_n's

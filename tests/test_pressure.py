@@ -189,6 +189,7 @@ def test_published_snap_pressures():
         assert min(pub) - 5e-4 <= ours <= max(pub) + 5e-4, (lb, ours, pub)
 
 
+@pytest.mark.slow
 def test_shallow_limit():
     """The classical values are shallow-shell results (no R/t): ours approach a limit as
     R/t grows, like t/R (R/t = 100 -> 1000 -> 10000: the change falls ~10x per decade), and

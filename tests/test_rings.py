@@ -52,7 +52,9 @@ def plate_with_ring(b=0.4, h=0.01, load=push_down):
     return koiter(g.disc(1.0), h, ("pole", "clamped"), rings=(Ring(b, axial=load),))
 
 
-@pytest.mark.parametrize("method", ["spectral", "energy", "shooting", "collocation"])
+@pytest.mark.parametrize("method", ["spectral", "energy",
+                                    pytest.param("shooting", marks=pytest.mark.slow),
+                                    "collocation"])
 def test_clamped_plate_under_an_axial_ring_load(method):
     """Clamped circular plate (radius a = 1) under a total force P spread uniformly on the
     circle r = b (Timoshenko & Woinowsky-Krieger, Theory of Plates and Shells, Sec. 19,
