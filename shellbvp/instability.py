@@ -98,10 +98,10 @@ class Instability:
             moves the root by more than ``UNRESOLVED`` of the bracket).
         nearby: a bifurcation's cluster: ((n, p, error), ...) of the harmonics n >= 1 whose
             lowest eigenvalue crosses zero along the branch between p and p plus
-            ``NEARBY_FRACTION`` (1 %) of |p| (or within p's error before it), the critical
-            one first, then by increasing distance from p, at most ``NEARBY_COUNT`` (5)
-            entries (the lowest crossings); each p located as the critical one (its error
-            the same estimate). Only the branch's points (up to its end or fold) are
+            ``NEARBY_FRACTION`` (1 %) of |p| (or before p within the two roots' errors),
+            the critical one first, then by increasing distance from p, at most
+            ``NEARBY_COUNT`` (5) entries (the lowest crossings); each p located as the
+            critical one (its error the same estimate). Only the branch's points (up to its end or fold) are
             scanned for them. Several entries within the error of p: which of them is
             critical is not determined by the computation (a sphere under pressure: every
             n of one spherical wave number crosses at the same load). Empty for a fold and
@@ -388,7 +388,10 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     p_c, err_c = found.p, found.error_estimate
     sign = 1.0 if branch.points[i].p >= branch.points[i - 1].p else -1.0
     edge = p_c + sign * NEARBY_FRACTION * abs(p_c)
-    inside = lambda p: -err_c <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)  # noqa: E731
+    # a harmonic located before p within the two roots' errors is one of the cluster: it
+    # was not taken for the critical one (_locate) because it does not cross first by
+    # more than they allow (a degenerate multiplet, e.g. a sphere's, lies within them)
+    inside = lambda p, e: -(err_c + e) <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)  # noqa: E731,E501
     fold = _fold_in(branch, i)
     table = [(float(branch.points[i - 1].p), low_prev)]
     if fold is None:
@@ -459,7 +462,7 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
             if got is None:
                 continue
             p, err = got[1], got[2]
-        if inside(p):
+        if inside(p, err):
             out.append((int(n), p, float(err)))
     return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
 
