@@ -47,6 +47,7 @@ def test_zero_stimulus_recovers_undeformed_cap(method):
     assert abs(eq.w) <= 1e-10 and abs(eq.energy) <= 1e-15
 
 
+@pytest.mark.slow
 def test_methods_agree_at_strongly_deformed_state():
     """Theta = pi/6, h = 0.01, lam = 1, kappa R0 = 3, relaxed CG: (r, z, theta) to 1e-7."""
     a, b, c = branch("collocation")[3.0], branch("shooting")[3.0], branch("spectral")[3.0]

@@ -26,6 +26,7 @@ def test_published_table_and_scene_geometry():
     assert case.tolerances(pub)[5.0] == pytest.approx(0.015 / 0.615, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_scene_snap_pressure_against_shallow_shell_equations():
     """The scene file's snap pressure within t/R = 1 % of the Donnell-Mushtari-Vlasov
     shallow-shell equations solved independently with scipy (tests/shallow_shell.py,

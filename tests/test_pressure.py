@@ -117,6 +117,7 @@ def test_error_estimate_bounds_the_error_under_refinement():
         assert abs(r.p_cr_over_p0 - ref) <= r.error_estimate <= tol, (tol, r)
 
 
+@pytest.mark.slow
 def test_back_ends_agree_on_the_snap_pressure():
     """solve_bvp collocation on the same equations, to its own estimate (lambda_B = 5)."""
     a = p_cr(5.0, tol=1e-9)

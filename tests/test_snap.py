@@ -16,6 +16,7 @@ def onset():
     return ce.onset(H0, 1.0)
 
 
+@pytest.mark.slow
 def test_onset_is_a_cusp_at_the_flat_state(onset):
     """At the onset T_c (the cusp of the fold curve) the slope dkappa/dw at the flat state
     vanishes (to 1e-6 in T, the next degree agreeing); just below it is positive, just
@@ -25,6 +26,7 @@ def test_onset_is_a_cusp_at_the_flat_state(onset):
     assert ce.flat_slope(onset.T - 0.01, H0) > 0 > ce.flat_slope(onset.T + 0.01, H0)
 
 
+@pytest.mark.slow
 def test_snap_above_the_onset_none_below(onset):
     above = ce.snap_curvature((onset.T + 0.02) * math.sqrt(H0), H0)
     below = ce.snap_curvature((onset.T - 0.02) * math.sqrt(H0), H0)
@@ -36,6 +38,7 @@ def test_snap_above_the_onset_none_below(onset):
     assert math.isnan(below.kappa_s)
 
 
+@pytest.mark.slow
 def test_a_deep_cap_snaps_well_above_the_onset(onset):
     r = ce.snap_curvature(math.pi / 6, H0)
     assert r.T > onset.T and r.snaps and r.kappa_s > 2.0
