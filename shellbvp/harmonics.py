@@ -46,7 +46,8 @@ r^(n -+ 1)), imposed at each end on the axis:
 The other ends (:class:`shellbvp.scene.End`): a clamped end has U = 0 and no rotation of
 the tangent out of the surface, U_r' sin(theta) + U_z' cos(theta) = 0; a hinged end U = 0; a
 roller U_z = 0; a sliding end U_z = 0 and no rotation; a diaphragm U_r = U_w = 0 (the end
-ring keeps its radius and its points their azimuth; U_z, the warping, is free); a symmetry end (a mirror plane normal to the axis) U_z = 0 and no rotation:
+ring keeps its radius and its points their azimuth; U_z, the warping, is free); a symmetry
+end (a mirror plane normal to the axis) U_z = 0 and no rotation:
 only the modes symmetric about that plane are seen, as in the axisymmetric problem (the
 antisymmetric ones of the whole shell need the whole meridian); a free end none. Across an
 interface (a joint of the geometry or a break of the stimulus) U and the rotation
