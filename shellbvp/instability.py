@@ -63,6 +63,9 @@ STATE_TOL = 0.1
 #: a state solved inside a bracket farther than this many times the bracket's interpolation
 #: error scale from the branch's interpolant lies on another branch (_hermite)
 OFF_BRANCH = 100.0
+#: a root's error estimate takes the eigenvalue's slope between evaluations at least this
+#: fraction of |p| from the root (_slope_at)
+SLOPE_SPAN = 1e-4
 #: "nearby": the harmonics n >= 1 whose eigenvalue crosses zero within this fraction of
 #: |p| of a bifurcation's p (Instability.nearby) ...
 NEARBY_FRACTION = 0.01
@@ -319,13 +322,11 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                 mu(x_b)
             root = brentq(mu, x_a, x_b, xtol=tol * scale, rtol=1e-14, maxiter=100)
             # the perturbation degree's error: mu at the root on a finer degree, over the
-            # slope of mu in p between the last evaluations on either side of the root
+            # slope of mu in p (_slope_at)
             eq_root = at(root)
             p_root = float(eq_root.p)
-            log = sorted((e[1], e[2]) for e in evals if math.isfinite(e[2]))
-            lo = max((q for q in log if q[0] <= p_root), default=log[0])
-            hi = min((q for q in log if q[0] > p_root), default=log[-1])
-            slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+            slope = _slope_at(sorted((e[1], e[2]) for e in evals if math.isfinite(e[2])),
+                              p_root)
             fine = modes(eq_root, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
             base = _base_error(branch, at, eq_root, n, degree, slope, tol)
             if not math.isfinite(base):
@@ -449,10 +450,7 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
             root = brentq(mu, x_a, x_b, xtol=tol * max(abs(x_a), abs(x_b)), rtol=1e-14,
                           maxiter=100)
             eq = at(root)
-            log = sorted((e[1], e[2]) for e in evals)
-            lo = max((q for q in log if q[0] <= root), default=log[0])
-            hi = min((q for q in log if q[0] > root), default=log[-1])
-            slope = (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+            slope = _slope_at(sorted((e[1], e[2]) for e in evals), root)
             fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
             base = _base_error(branch, at, eq, n, degree, slope, tol)
             p, err = float(eq.p), abs(fine / slope) + (base if math.isfinite(base) else 0.0) \
@@ -465,6 +463,24 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
         if inside(p, err):
             out.append((int(n), p, float(err)))
     return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
+
+
+def _slope_at(log, root) -> float:
+    """The slope of an eigenvalue in p at ``root``, for the root's error estimate, from the
+    evaluations ``log`` [(p, mu)] sorted by p: the secant between the nearest evaluation on
+    either side that lies at least ``SLOPE_SPAN`` of |root| from it (the farthest on that
+    side where none does). The last evaluations of a root search to a tight tolerance lie
+    too close for their eigenvalues' round-off: at tol 1e-9 on a sphere under pressure
+    their secant was 10 times the eigenvalue's slope, and the root's error as much too
+    small (its perturbation-degree term, the change on a finer degree over the slope)."""
+    span = SLOPE_SPAN * abs(root)
+    below = [q for q in log if q[0] <= root]
+    above = [q for q in log if q[0] > root]
+    lo = max((q for q in below if root - q[0] >= span), default=below[0]) if below \
+        else log[0]
+    hi = min((q for q in above if q[0] - root >= span), default=above[-1]) if above \
+        else log[-1]
+    return (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
 
 
 def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
