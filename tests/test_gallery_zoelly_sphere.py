@@ -52,3 +52,41 @@ def test_zoelly_sphere_at_R_over_t_1000(tmp_path):
     assert ins.kind == "bifurcation"
     assert abs(ins.p / p_cl - 1) <= case.TOLERANCE
     assert ins.error_estimate <= 0.1 * case.TOLERANCE * ins.p   # small beside the bound
+
+
+
+#: a complete sphere under uniform pressure is symmetric under every rotation, so all
+#: bifurcation modes of one spherical degree l (here l = 18: the harmonics n = 0, 2, ..., 18
+#: even about the equator) buckle at exactly one load: the symmetry is an independent check
+#: of the roots' error estimates, each root located on its own perturbation discretisation
+@pytest.fixture(scope="module")
+def at_tight_tolerance():
+    import shellbvp
+
+    return shellbvp.load_scene(case.SCENE).first_instability(tol=1e-9)
+
+
+@pytest.mark.slow  # ~30-60 s: the branch and the root searches of the multiplet at tol 1e-9
+def test_the_cluster_is_listed_at_the_command_lines_tolerance(at_tight_tolerance):
+    """At tol 1e-9 (the command line's) ``nearby`` lists five harmonics of l = 18, and the
+    critical one's estimate covers each root it is listed with. It once listed only the
+    critical harmonic: the eigenvalue's slope, taken between the root search's last two
+    evaluations ~1e-10 apart, carried their round-off, and the estimates were 5 to 50
+    times short of the multiplet's spread."""
+    ins = at_tight_tolerance
+    assert ins.kind == "bifurcation" and len(ins.nearby) == 5, ins.nearby
+    for n, p, e in ins.nearby:
+        assert n % 2 == 0 and n <= 18, n
+        assert abs(p - ins.p) <= e + ins.error_estimate, (n, p, e, ins.p)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="known: the perturbation degree's one-rung estimate "
+                   "misses the high harmonics' erratic convergence at the 1e-8 level (n = 10, "
+                   "14, 18 lie up to 1.5 x their summed estimates apart at tol 1e-9)")
+def test_every_pair_of_the_multiplet_agrees_within_its_estimates(at_tight_tolerance):
+    """The multiplet's roots pairwise within their summed estimates (the symmetry above)."""
+    near = at_tight_tolerance.nearby
+    for n, p, e in near:
+        for m, q, f in near:
+            assert abs(p - q) <= e + f, ((n, p, e), (m, q, f))
