@@ -86,14 +86,14 @@ def main():
         for model in a.models:
             times = {(name, cache): [] for name in trees for cache in ("cold", "warm")}
             for name, tree in trees.items():     # bytecode, and the warm folder filled
-                snap(tree, tmp / f"warm-{model}-{id(tree)}", model)
+                snap(tree, tmp / f"warm-{model}-{tree.name}", model)
             for r in range(runs):
                 for name, tree in trees.items():
-                    cold = tmp / f"cold-{model}-{r}-{id(tree)}"
+                    cold = tmp / f"cold-{model}-{r}-{tree.name}"
                     wall, lines[name, model] = snap(tree, cold, model)
                     times[name, "cold"].append(wall)
                     shutil.rmtree(cold, ignore_errors=True)
-                    times[name, "warm"].append(snap(tree, tmp / f"warm-{model}-{id(tree)}",
+                    times[name, "warm"].append(snap(tree, tmp / f"warm-{model}-{tree.name}",
                                                     model)[0])
             for cache in ("cold", "warm"):
                 med = {name: float(np.median(times[name, cache])) for name in trees}

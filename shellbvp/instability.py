@@ -392,7 +392,9 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     # a harmonic located before p within the two roots' errors is one of the cluster: it
     # was not taken for the critical one (_locate) because it does not cross first by
     # more than they allow (a degenerate multiplet, e.g. a sphere's, lies within them)
-    inside = lambda p, e: -(err_c + e) <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)  # noqa: E731,E501
+    def inside(p, e):
+        return -(err_c + e) <= sign * (p - p_c) <= NEARBY_FRACTION * abs(p_c)
+
     fold = _fold_in(branch, i)
     table = [(float(branch.points[i - 1].p), low_prev)]
     if fold is None:

@@ -81,9 +81,10 @@ def test_the_cluster_is_listed_at_the_command_lines_tolerance(at_tight_tolerance
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="known: the perturbation degree's one-rung estimate "
-                   "misses the high harmonics' erratic convergence at the 1e-8 level (n = 10, "
-                   "14, 18 lie up to 1.5 x their summed estimates apart at tol 1e-9)")
+@pytest.mark.xfail(strict=True, reason="known limitation, not yet fixed: at tol 1e-9 the "
+                   "error estimates of the high harmonics (n = 10, 14, 18) are up to 1.5x "
+                   "short of their spread: their eigenvalues converge erratically in the "
+                   "perturbation degree at the 1e-8 level, which a one-step estimate misses")
 def test_every_pair_of_the_multiplet_agrees_within_its_estimates(at_tight_tolerance):
     """The multiplet's roots pairwise within their summed estimates (the symmetry above)."""
     near = at_tight_tolerance.nearby
