@@ -19,8 +19,10 @@ result. The first point where an eigenvalue is negative brackets the instability
   mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
   estimate is the change of that root when the perturbation degree is raised by
-  ``DEGREE_STEP``, plus the root's own tolerance; where that change exceeds ``UNRESOLVED``
-  of the bracket, ``note`` says so (the change is the error estimate).
+  ``DEGREE_STEP`` and both degrees' eigenvalue round-off (``_degree_error``), plus the
+  change when the state is solved on the method's next finer discretisation
+  (``_base_error``) and the root's own tolerance; where it exceeds ``UNRESOLVED`` of the
+  bracket, ``note`` says so (it is the error estimate).
 
 A bracketed instability is always answered. The states inside a bracket are solved on the
 branch's own discretisation, from the nearest state known along its exact tangent; where
@@ -327,15 +329,10 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             p_root = float(eq_root.p)
             slope = _slope_at(sorted((e[1], e[2]) for e in evals if math.isfinite(e[2])),
                               p_root)
-            fine = modes(eq_root, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
-            base = _base_error(branch, at, eq_root, n, degree, slope, tol)
-            if not math.isfinite(base):
-                notes[n] = ("the axisymmetric state's discretisation error is not in the "
-                            "error estimate (its solve on the next finer discretisation "
-                            "failed)")
-                base = 0.0
-            got = (n, p_root, abs(fine / slope) + base + tol * abs(p_root), eq_root, root,
-                   slope)
+            err, note = _root_error(branch, i, at, eq_root, n, degree, slope, tol)
+            if note:
+                notes[n] = note
+            got = (n, p_root, err, eq_root, root, slope)
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             got = _bracketed(n, evals, exc)
             if got is None:
@@ -453,10 +450,7 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
                           maxiter=100)
             eq = at(root)
             slope = _slope_at(sorted((e[1], e[2]) for e in evals), root)
-            fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n].lowest
-            base = _base_error(branch, at, eq, n, degree, slope, tol)
-            p, err = float(eq.p), abs(fine / slope) + (base if math.isfinite(base) else 0.0) \
-                + tol * abs(float(eq.p))
+            p, err = float(eq.p), _root_error(branch, j, at, eq, n, degree, slope, tol)[0]
         except (ValueError, RuntimeError, ConvergenceError) as exc:
             got = _bracketed(n, evals, exc)
             if got is None:
@@ -483,6 +477,60 @@ def _slope_at(log, root) -> float:
     hi = min((q for q in above if q[0] - root >= span), default=above[-1]) if above \
         else log[-1]
     return (hi[1] - lo[1]) / (hi[0] - lo[0]) if hi[0] != lo[0] else math.inf
+
+
+def _root_error(branch, i, at, eq, n, degree, slope, tol) -> tuple:
+    """(error estimate, note) of the root of harmonic n's eigenvalue located at ``eq``
+    between the branch's points i - 1 and i (``at`` the root search's solver, ``slope`` the
+    eigenvalue's in p): the perturbation degree's error (_degree_error), the state's
+    discretisation error (_base_error), its determination (_state_error) and the root's own
+    tolerance. The note says which term could not be evaluated."""
+    base = _base_error(branch, at, eq, n, degree, slope, tol)
+    state = _state_error(branch, i, at, eq, n, degree, slope, tol)
+    missing = [what for what, v in (("discretisation error (its solve on the next finer "
+                                     "discretisation failed)", base),
+                                    ("determination (a solve from the bracket's end "
+                                     "failed)", state)) if not math.isfinite(v)]
+    note = ("the axisymmetric state's " + " and ".join(missing) + " is not in the error "
+            "estimate") if missing else ""
+    err = _degree_error(eq, n, degree, slope) + sum(v for v in (base, state)
+                                                    if math.isfinite(v))
+    return err + tol * abs(float(eq.p)), note
+
+
+def _state_error(branch, i, at, eq, n, degree, slope, tol) -> float:
+    """The root's error from how well the state at it is determined: the eigenvalue's
+    change when that state is solved afresh from the bracket's nearer end (not from the root
+    search's chain of solves), over its slope in p. Where the axisymmetric class bifurcates
+    at (nearly) the same load (a sphere under pressure: the axisymmetric mode of the
+    critical spherical wave number) the Jacobian at prescribed p is nearly singular, Newton
+    stalls at round-off amplified along its null vector, and the states of a chain of
+    solves drift along it: on the hemisphere at R/t = 100 with collocation, n = 12's root
+    moved 3.6e-8 (its other terms 8e-9), where a fresh solve moved the eigenvalue by that
+    much. 0 where ``at`` prescribes the monitor (next to a fold: the fold's own estimate),
+    nan where the fresh solve fails."""
+    if at.prescribes != "parameter" or id(eq) not in at.states:
+        return 0.0
+    try:
+        fresh = _parameter_solver(branch, i, tol)(float(eq.p))
+        mu_f = modes(fresh, [n], count=1, degree=degree)[n].lowest
+        mu = modes(eq, [n], count=1, degree=degree)[n].lowest
+    except (ConvergenceError, ValueError):
+        return math.nan
+    return abs(mu_f - mu) / abs(slope) if slope else math.nan
+
+
+def _degree_error(eq, n, degree, slope) -> float:
+    """The root's error from the perturbation degree: the eigenvalue at the root on the
+    degree ``DEGREE_STEP`` finer, plus both degrees' round-off floors
+    (:attr:`shellbvp.harmonics.HarmonicSpectrum.roundoff`), over its slope in p. The floors
+    matter for high harmonics of thin shells, whose eigenvalues converge in the degree to
+    their round-off and then wander by it: at a sphere's multiplet (tol 1e-9) the change
+    alone left the roots of n = 10, 14 and 18 up to 1.5 times their summed estimates
+    apart, where the sphere's symmetry puts them at one load."""
+    fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n]
+    own = modes(eq, [n], count=1, degree=degree)[n]
+    return (abs(fine.lowest) + fine.roundoff + own.roundoff) / abs(slope)
 
 
 def _base_error(branch, at, eq, n, degree, slope, tol) -> float:

@@ -73,6 +73,31 @@ def test_sphere_under_pressure_buckles_at_the_classical_load_with_a_cluster():
             assert abs(p - ins.p) <= I.NEARBY_FRACTION * ins.p
 
 
+@pytest.mark.slow  # three branches and their root searches at tol 1e-9: ~35 s
+def test_three_methods_locate_the_sphere_within_their_estimates():
+    """The hemisphere at R/t = 100 under pressure, located at the command line's tolerance
+    by three discretisations of the state (spectral elements, the energy method,
+    collocation): the roots pairwise within their summed error estimates, the independent
+    check being that the continuum has one root. Before the state's determination was in
+    the estimate, collocation's root lay 3.6e-8 from spectral's, 4.1 times their summed
+    estimates: next to the axisymmetric bifurcation at the same load its chained solves
+    drifted along the Jacobian's near-null vector."""
+    from shellbvp.problems.thin_shells import hemisphere
+
+    nu, Rt = 0.3, 100.0
+    p_cl = 2 * 2 * (1 + nu) / Rt / math.sqrt(3 * (1 - nu * nu))
+    sc = hemisphere(Rt, nu=nu, load="pressure")
+    found = {}
+    for method in ("spectral", "energy", "collocation"):
+        b = shellbvp.follow(sc, method=method, p_stop=(0.0, 1.6 * p_cl), n_folds=1,
+                            energies=False, estimate_errors=False)
+        found[method] = shellbvp.first_instability(b, tol=1e-9)
+    for a in found.values():
+        assert a.kind == "bifurcation" and a.error_estimate < 1e-5 * a.p
+        for b in found.values():
+            assert abs(a.p - b.p) <= a.error_estimate + b.error_estimate, found
+
+
 @pytest.mark.slow  # a branch to kappa R0 ~ 3.6 and the harmonics along it: ~1 min
 def test_a_cap_that_does_not_snap_bifurcates_past_full_eversion():
     """The Koiter cap, nu = 1/2, h0/R0 = 0.01, T = 1.5 (Theta = 0.15): no snap; the scan
