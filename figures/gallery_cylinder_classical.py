@@ -51,9 +51,9 @@ crossing, located here independently (the lowest n = 0 eigenvalue of ``shellbvp.
 equilibria solved by ``shellbvp.solve`` at loads around N_0, a cubic through the four
 nearest its sign change), against T&G's formula to the same tolerance; that the
 bifurcation reported is the first one (no n = 0 crossing before it by more than the two
-errors; ``first_instability`` searches an n = 0 root only where no n >= 1 turns unstable in
-the same bracket, so at the short length it reports n = 1 although n = 0 crosses 0.16 %
-before at R/t = 100, 0.016 % at 1000: a MISS until that changes); and that the difference
+errors; it missed while ``first_instability`` searched an n = 0 root only where no n >= 1
+turned unstable in the same bracket: at the short length it reported n = 1 although n = 0
+crosses 0.16 % before at R/t = 100, 0.016 % at 1000); and that the difference
 is of order t/R: F_cr / N_min - 1 and the n = 0 crossing's F / N_0 - 1 at the short length,
 their ratios between R/t = 100 and 1000 within [5, 20] (10 expected).
 

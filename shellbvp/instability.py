@@ -15,7 +15,10 @@ result. The first point where an eigenvalue is negative brackets the instability
   ``"bifurcation"`` with n = 0, located as the root of a minimally augmented test function
   of the branch's own discrete system, its error the change on the method's finer rungs
   (:mod:`shellbvp.continuation.branch_points`).
-* n >= 1 first: a bifurcation. Its parameter value is the root of the lowest eigenvalue
+* n >= 1 first, or together with n = 0 in one bracket: a bifurcation. With n = 0 in the
+  bracket too (a short cylinder between mirror planes in axial compression buckles
+  axisymmetrically just before n = 1), n = 0's eigenvalue is one more candidate located as
+  below; where it comes first, it is the branch point above. Its parameter value is the root of the lowest eigenvalue
   mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
   own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
   estimate is the change of that root when the perturbation degree is raised by
@@ -68,7 +71,7 @@ OFF_BRANCH = 100.0
 #: a root's error estimate takes the eigenvalue's slope between evaluations at least this
 #: fraction of |p| from the root (_slope_at)
 SLOPE_SPAN = 1e-4
-#: "nearby": the harmonics n >= 1 whose eigenvalue crosses zero within this fraction of
+#: "nearby": the harmonics whose eigenvalue crosses zero within this fraction of
 #: |p| of a bifurcation's p (Instability.nearby) ...
 NEARBY_FRACTION = 0.01
 #: ... at most this many, the critical one included
@@ -101,13 +104,14 @@ class Instability:
         note: "" for a root located to ``tol``; otherwise why the error estimate is larger
             (the root search stopped and p is the bracket's, or the perturbation degree
             moves the root by more than ``UNRESOLVED`` of the bracket).
-        nearby: a bifurcation's cluster: ((n, p, error), ...) of the harmonics n >= 1 whose
+        nearby: a bifurcation's cluster: ((n, p, error), ...) of the harmonics whose
             lowest eigenvalue crosses zero along the branch between p and p plus
             ``NEARBY_FRACTION`` (1 %) of |p| (or before p within the two roots' errors),
             the critical one first, then by increasing distance from p, at most
             ``NEARBY_COUNT`` (5) entries (the lowest crossings); each p located as the
-            critical one (its error the same estimate). Only the branch's points (up to its end or fold) are
-            scanned for them. Several entries within the error of p: which of them is
+            critical one (its error the same estimate; n = 0, an axisymmetric branch
+            point, by its eigenvalue's root). Only the branch's points (up to its end or
+            fold) are scanned for them. Several entries within the error of p: which is
             critical is not determined by the computation (a sphere under pressure: every
             n of one spherical wave number crosses at the same load). Empty for a fold and
             for none.
@@ -233,6 +237,13 @@ def first_instability(branch: Branch, *, degree: int | None = None, tol: float =
             raise ValueError(f"the branch's first point ({name} = {eq.p:.6g}) is already "
                              f"unstable (n = {sorted(neg)}): follow it from a stable state")
         if neg:
+            # harmonics past the previous point's cutoff: their eigenvalues there, so that
+            # their crossings inside the bracket are seen (a long thin cylinder's cluster
+            # lies around n = 28, past a cutoff of 20 before the bracket)
+            missing = sorted(set(low) - set(prev))
+            if missing:
+                prev = {**prev, **_lowest(modes(branch.equilibrium(i - 1), missing,
+                                                count=1, degree=degree).spectra)}
             found = _locate(branch, i, prev, low, degree, tol, cutoff, tuple(rows))
             if found.kind == "bifurcation":
                 found = replace(found, nearby=_nearby(branch, i, found, prev, low, degree,
@@ -276,8 +287,14 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             return Instability("fold", 0, float(fold.p), float(fold.w),
                                float(fold.error_estimate), name, mode, cutoff,
                                _cutoff_reason(cutoff), rows, equilibrium=eq_f)
-    elif 0 in low and low[0] < 0 and not candidates:
-        return _branch_point(branch, i, degree, tol, cutoff, rows)
+    elif 0 in low and low[0] < 0:
+        if not candidates:
+            return _branch_point(branch, i, degree, tol, cutoff, rows)
+        # an axisymmetric branch point in the same bracket as n >= 1 crossings: its
+        # eigenvalue's root is located like theirs, and where it comes first it is located
+        # again on the branch's own system (_branch_point: the state and null vector the
+        # branch switching needs)
+        candidates.append(0)
     # the bifurcation whose eigenvalue crosses zero first: locate each candidate's root, in
     # p, or where the bracket ends at the fold in the monitor m (p is a coordinate of the
     # branch up to the fold, but a solve at prescribed p next to it is ill-conditioned: two
@@ -346,6 +363,20 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         if best is None or _first(got, n in bracket_only, best, best[0] in bracket_only, p_a, p_b):
             best = got
     n, p, err, eq = best[:4]
+    if n == 0:
+        found = _branch_point(branch, i, degree, tol, cutoff, rows)
+        if found.error_estimate <= err or 0 in bracket_only:
+            return found
+        # the branch's own system stopped on a bracket wider than the eigenvalue's root's
+        # error (Newton at prescribed p stalls next to a branch point whose symmetry the
+        # discretisation breaks): the root is the answer, the bracket's state the branch
+        # point to switch from
+        return replace(found, p=float(p), w=float(eq.w), error_estimate=float(err),
+                       equilibrium=eq, mode=modes(eq, [0], count=1, degree=degree)[0],
+                       note=f"located by the root of its eigenvalue (as n >= 1); on the "
+                       f"branch's own system only to a bracket of width "
+                       f"{found.error_estimate:.3g} ({found.branch_point.stats.get('stall', '')[:160]}), "
+                       f"whose state branch_point holds")
     note = notes.get(n, "")
     if not note and err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
         note = (f"not resolved by the discretisation: raising the perturbation degree "
@@ -376,11 +407,11 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     """Instability.nearby of the bifurcation ``found`` bracketed by points i - 1 and i
     (their lowest eigenvalues per n: low_prev, low): the branch's points after i are scanned
     (harmonics up to the bracket's cutoff) until p passes the window, and each harmonic
-    whose eigenvalue has turned negative by then is located between the two points where
-    it changes sign, in the order of its eigenvalue at p (the most negative crossed first:
-    the linear crossings of a long continuation step are too coarse to order a cluster),
-    until ``NEARBY_COUNT`` - 1 lie inside the window (at most ``NEARBY_COUNT`` + 2 root
-    searches)."""
+    whose eigenvalue has turned negative by then and is negative at the window's edge
+    (a state solved there) is located between the two points where it changes sign: those
+    crossed already at p first, then in the order of their linear crossings between p and
+    the edge, at most ``NEARBY_COUNT`` + 2 root searches; the ``NEARBY_COUNT`` - 1 lowest
+    inside the window are kept."""
     from scipy.optimize import brentq
 
     p_c, err_c = found.p, found.error_estimate
@@ -408,7 +439,7 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
     # per harmonic: the first sign change in the table, and its linear crossing
     cross = {}
     for n in low:
-        if n < 1 or n == found.n:
+        if n == found.n:
             continue
         for k in range(1, len(table)):
             a, b = table[k - 1][1].get(n, math.nan), table[k][1].get(n, math.nan)
@@ -416,14 +447,27 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
                 pa, pb = table[k - 1][0], table[k][0]
                 cross[n] = (pa + a / (a - b) * (pb - pa), i - 1 + k)
                 break
-    # the order in which they cross: their eigenvalues at p (the most negative crossed
-    # first; the linear crossings of a long step are too coarse to tell a cluster apart)
+    # which of them cross inside the window, and in what order: their eigenvalues at p and
+    # at the window's edge (a state solved there), each linear between the two (the
+    # eigenvalues of different n differ in scale and curvature: on a long thin cylinder
+    # n = 3 to 8 lay closest to zero at p and crossed 7 % past it, n = 29 crossed 7e-4 past
+    # it, and a long step's linear crossings put it 5 % past)
     at_c = _lowest(modes(found.equilibrium, sorted(cross), count=1, degree=degree).spectra) \
         if cross else {}
+    at_e = _at_edge(branch, i, table, edge, sorted(n for n in cross if at_c[n] > 0), degree,
+                    tol)
+    for n in list(cross):
+        if at_c[n] > 0 and n in at_e:
+            if at_e[n] > 0:
+                del cross[n]                    # crosses past the window
+            else:
+                cross[n] = (p_c + at_c[n] / (at_c[n] - at_e[n]) * (edge - p_c), cross[n][1])
     out = [(int(found.n), float(p_c), float(err_c))]
     solvers, searches = {}, 0
-    for n, (guess, j) in sorted(cross.items(), key=lambda kv: at_c[kv[0]]):
-        if len(out) >= NEARBY_COUNT or searches >= NEARBY_COUNT + 2:
+    order = sorted(cross.items(), key=lambda kv: (0, at_c[kv[0]]) if at_c[kv[0]] <= 0
+                   else (1, sign * kv[1][0]))
+    for n, (guess, j) in order:
+        if searches >= NEARBY_COUNT + 2:
             break
         if at_c[n] > 0 and sign * (guess - edge) > NEARBY_FRACTION * abs(p_c):
             continue                            # crosses well past the window
@@ -458,7 +502,27 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
             p, err = got[1], got[2]
         if inside(p, err):
             out.append((int(n), p, float(err)))
-    return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c)))
+    # the lowest crossings: the order above is a linear guess, so every searched one that
+    # lies inside is kept until here (a short cylinder's n = 1 came after n = 2 to 5)
+    return (out[0],) + tuple(sorted(out[1:], key=lambda e: sign * (e[1] - p_c))
+                             [:NEARBY_COUNT - 1])
+
+
+def _at_edge(branch, i, table, edge, ns, degree, tol) -> dict:
+    """{n: lowest eigenvalue} of harmonics ``ns`` at the state at p = ``edge`` (the end of
+    a bifurcation's nearby window), solved between the branch points that bracket it; {}
+    where no branch interval from i on holds it or the solve fails."""
+    if not ns:
+        return {}
+    for j in range(i, i + len(table) - 1):
+        a, b = float(branch.points[j - 1].p), float(branch.points[j].p)
+        if min(a, b) <= edge <= max(a, b):
+            try:
+                eq = _parameter_solver(branch, j, tol)(float(edge))
+                return _lowest(modes(eq, ns, count=1, degree=degree).spectra)
+            except ConvergenceError:
+                return {}
+    return {}
 
 
 def _slope_at(log, root) -> float:
