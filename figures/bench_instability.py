@@ -1,10 +1,14 @@
-"""Wall time of the first instability of three scene files (one core, pinned): the branch
+"""Wall time of the first instability of five scene files (one core, pinned): the branch
 from ``from`` and the harmonics along it, the bifurcation located (``SceneFile.
 first_instability``, what ``shellbvp stability FILE`` runs).
 
 * Zoelly's sphere under external pressure (``problems/gallery/zoelly-sphere.toml``,
   R/t = 100) and the same file at R/t = 1000 (a copy: t = 1 mm, ``to`` scaled with p_cl);
-* the clamped cylinder in axial compression (``problems/gallery/cylinder-axial.toml``).
+* the clamped cylinder in axial compression (``problems/gallery/cylinder-axial.toml``);
+* the long cylinder under lateral pressure (``problems/gallery/long-cylinder-pressure.toml``,
+  R/t = 100, L/R = 100);
+* the short cylinder between mirror planes in axial compression
+  (``problems/gallery/cylinder-classical.toml``: n = 0 and n = 1, 2 in one bracket).
 
 Per scene: the first call in this process (it traces the kernels; compiled code may come
 from the disk cache), the median of ``repeat`` further calls (steady state), and one run of
@@ -53,7 +57,11 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as d:
         cases = [("zoelly sphere R/t = 100", GALLERY / "zoelly-sphere.toml"),
                  ("zoelly sphere R/t = 1000", zoelly_copy(Path(d), 1.0, 0.4)),
-                 ("cylinder axial R/t = 1000, Z = 500", GALLERY / "cylinder-axial.toml")]
+                 ("cylinder axial R/t = 1000, Z = 500", GALLERY / "cylinder-axial.toml"),
+                 ("long cylinder pressure R/t = 100, L/R = 100",
+                  GALLERY / "long-cylinder-pressure.toml"),
+                 ("cylinder between mirror planes R/t = 100",
+                  GALLERY / "cylinder-classical.toml")]
         for name, path in cases:
             sf = shellbvp.load_scene(path)
             found = []

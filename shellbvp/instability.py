@@ -32,8 +32,9 @@ branch's own discretisation, from the nearest state known along its exact tangen
 Newton stalls at round-off (next to an axisymmetric bifurcation at the same load the
 Jacobian at prescribed p is nearly singular) the state is accepted at ``STATE_TOL`` of the
 root's tolerance, and a state off the branch's Hermite interpolant (converged on a crossing
-branch) ends the search. A search that ends so answers with the narrowest interval over
-which the eigenvalue changed sign, its linear root, and the interval's width as the error
+branch) ends the search. A search that ends so is narrowed from outside the neighbourhood
+where the solves fail (:mod:`shellbvp.continuation.squeeze`) and answers with the narrowest
+interval over which the eigenvalue changed sign, its linear root, and the interval's width as the error
 estimate (``note`` says so).
 
 Clusters: where several harmonics cross within ``NEARBY_FRACTION`` (1 %) of a bifurcation's
@@ -351,6 +352,7 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
                 notes[n] = note
             got = (n, p_root, err, eq_root, root, slope)
         except (ValueError, RuntimeError, ConvergenceError) as exc:
+            _squeeze(mu, evals, tol * scale)
             got = _bracketed(n, evals, exc)
             if got is None:
                 raise ConvergenceError(f"the bifurcation into n = {n} between {name} = "
@@ -364,7 +366,19 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
             best = got
     n, p, err, eq = best[:4]
     if n == 0:
-        found = _branch_point(branch, i, degree, tol, cutoff, rows)
+        try:
+            found = _branch_point(branch, i, degree, tol, cutoff, rows)
+        except ConvergenceError as exc:
+            # the branch's own system shows no branch point in the bracket (its test
+            # function keeps its sign): the eigenvalue's root stands, with nothing to
+            # switch branches from
+            mode = modes(eq, [0], count=1, degree=degree)[0]
+            return Instability(
+                "bifurcation", 0, float(p), float(eq.w), float(err), name, mode, cutoff,
+                _cutoff_reason(cutoff), rows, equilibrium=eq,
+                note=(notes.get(0, "") + "; " if notes.get(0) else "") + "located by the "
+                f"root of its eigenvalue (as n >= 1); not on the branch's own system "
+                f"({str(exc)[:200]}): no branch point to follow the bifurcated branch from")
         if found.error_estimate <= err or 0 in bracket_only:
             return found
         # the branch's own system stopped on a bracket wider than the eigenvalue's root's
@@ -496,6 +510,7 @@ def _nearby(branch, i, found, low_prev, low, degree, tol) -> tuple:
             slope = _slope_at(sorted((e[1], e[2]) for e in evals), root)
             p, err = float(eq.p), _root_error(branch, j, at, eq, n, degree, slope, tol)[0]
         except (ValueError, RuntimeError, ConvergenceError) as exc:
+            _squeeze(mu, evals, tol * max(abs(x_a), abs(x_b)))
             got = _bracketed(n, evals, exc)
             if got is None:
                 continue
@@ -631,6 +646,16 @@ def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
         return math.nan
     # p moves with the monitor held: the eigenvalue's change includes that move's
     return abs(mu_f - mu + slope * (p - res.p)) / abs(slope) if slope else math.nan
+
+
+def _squeeze(mu, evals, floor) -> None:
+    """A stopped root search's bracket narrowed from outside the neighbourhood where the
+    state's solves fail (:func:`shellbvp.continuation.squeeze.squeeze`): ``mu`` logs its
+    evaluations into ``evals`` [(x, p, mu, eq)]."""
+    from .continuation.squeeze import squeeze
+
+    squeeze(mu, [(e[0], e[2]) for e in evals if math.isfinite(e[2])], floor=floor,
+            errors=(ValueError, RuntimeError, ConvergenceError))
 
 
 def _bracketed(n, evals, exc):

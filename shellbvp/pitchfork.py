@@ -174,6 +174,13 @@ def axisymmetric_koiter(bp, *, direction: float = 1.0, xi_max: float = KOITER_AM
         h=float(bp.system.bvp.scene.h), direction=float(direction), samples=samples)
 
 
+#: the first point's monitor offsets tried, in units of the default (the normal displacement a
+#: hundredth of the thickness), where no start is given: next to a branch point whose
+#: symmetry the discretisation breaks, a start too near it may not converge (a short cylinder
+#: between mirror planes: 1 failed, 4 and 64 converged, 16 did not)
+START_FACTORS = (1.0, 4.0, 16.0, 64.0, 256.0)
+
+
 def follow_branch_point(instability, *, start: float | None = None, p_stop=None,
                         w_stop=None, n_folds=None,
                         options: ContinuationOptions | None = None,
@@ -185,18 +192,26 @@ def follow_branch_point(instability, *, start: float | None = None, p_stop=None,
     Arguments:
         instability: the :class:`shellbvp.Instability` (it carries the branch point).
         start: the monitor offset of the first point (w / H; default: where the normal
-            displacement is a hundredth of the thickness), on the side where the monitor
-            grows (give it negative for the other half of a pitchfork).
+            displacement is a hundredth of the thickness, then ``START_FACTORS`` times
+            that until the continuation starts), on the side where the monitor grows
+            (give it negative for the other half of a pitchfork).
         p_stop, w_stop: (low, high) stops in p and w (R0), as :func:`shellbvp.follow`.
         n_folds: folds to pass before stopping (None: no limit).
         options: the continuation's settings (default ContinuationOptions()).
         progress: called with every accepted continuation point.
 
     Raises:
-        ValueError: an instability that is not an axisymmetric bifurcation.
-        ConvergenceError: the first point does not converge (with the Newton history).
+        ValueError: an instability that is not an axisymmetric bifurcation, or one with no
+            branch point of the branch's own system (``note`` says why).
+        ConvergenceError: no first point converges (with the Newton history).
     """
     bp = getattr(instability, "branch_point", None)
+    if getattr(instability, "kind", None) == "bifurcation" and instability.n == 0 \
+            and bp is None:
+        raise ValueError("this axisymmetric bifurcation carries no branch point of the "
+                         "branch's own discrete system to switch branches from: "
+                         f"{instability.note or 'none was located'}; follow the scene with "
+                         "another method (spectral or collocation)")
     if getattr(instability, "kind", None) != "bifurcation" or instability.n != 0 or bp is None:
         raise ValueError("instability must be an axisymmetric bifurcation (kind "
                          "'bifurcation', n = 0) from shellbvp.first_instability, got "
@@ -211,22 +226,32 @@ def follow_branch_point(instability, *, start: float | None = None, p_stop=None,
     off = _Off(bp, options.newton_tol)
     if start is None:
         w = _normal(system, bp.null)
-        start = 0.01 * scene.h / float(np.abs(w).max()) * abs(off.rate)
-    first = off(float(start))
+        base = 0.01 * scene.h / float(np.abs(w).max()) * abs(off.rate)
+        starts = [k * base for k in START_FACTORS]
+    else:
+        starts = [float(start)]
     lo, hi = (-math.inf, math.inf) if p_stop is None else map(float, p_stop)
     wlo, whi = (-math.inf, math.inf) if w_stop is None else map(float, w_stop)
-    stop = ""
-    try:
-        # the way the continuation first moves: away from the branch point in the monitor
-        pts, brackets = pseudo_arclength(
-            system, first.U, first.p, options=options, p_stop=(lo, hi),
-            monitor_stop=(wlo / H, whi / H), n_folds=n_folds,
-            direction=math.copysign(1.0, first.p - bp.p) if first.p != bp.p else 1.0,
-            progress=progress)
-    except ConvergenceError as exc:
-        if exc.partial is None:
-            raise
-        (pts, brackets), stop = exc.partial, f"continuation stalled: {exc}"
+    for k, start in enumerate(starts):
+        stop = ""
+        try:
+            first = off(start)
+            # the way the continuation first moves: away from the branch point in the
+            # monitor
+            pts, brackets = pseudo_arclength(
+                system, first.U, first.p, options=options, p_stop=(lo, hi),
+                monitor_stop=(wlo / H, whi / H), n_folds=n_folds,
+                direction=math.copysign(1.0, first.p - bp.p) if first.p != bp.p else 1.0,
+                progress=progress)
+            break
+        except ConvergenceError as exc:
+            if exc.partial is not None:
+                (pts, brackets), stop = exc.partial, f"continuation stalled: {exc}"
+                break
+            if k == len(starts) - 1:
+                raise ConvergenceError(
+                    f"branch switching: no start on the bifurcated branch at the monitor "
+                    f"offsets {', '.join(f'{s:.3g}' for s in starts)}: {exc}") from exc
     if math.copysign(1.0, pts[-1].monitor - bp.monitor) != math.copysign(1.0, float(start)):
         stop = stop or "the continuation turned back toward the branch point"
     n = len(pts)

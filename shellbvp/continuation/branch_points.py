@@ -21,8 +21,10 @@ from a Newton solve at prescribed p started from the nearest solves already made
 Solving at prescribed p right next to the branch point is safe at a symmetric state: the
 residual has no component along the symmetry-breaking phi, so Newton's update has none
 either; the near-singularity shows up only as round-off in the breaking components.
-Where a solve still fails (or the test function stops changing sign) the result is the
-last bracket, its width the error estimate, never an exception after a bracket.
+Where a solve still fails (the discretisation breaks the symmetry, and the residual has a
+component along phi) the bracket is narrowed from outside the neighbourhood where solves
+fail (:func:`.squeeze.squeeze`), and the result is that bracket, its width the error
+estimate (not refined on finer rungs), never an exception after a bracket.
 
 Error estimate: as folds (:mod:`.folds`), the point is located again on the method's next
 finer rung (``system.refined()``) until p changes by at most the tolerance on two
@@ -42,6 +44,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..methods.base import Discretisation, implements
 from .newton import bordered_lu, newton
+from .squeeze import squeeze
 
 __all__ = ["BranchPoint", "test_function", "null_vectors", "locate_branch_point",
            "refine_branch_point", "branch_point_on", "INVERSE_ITERATIONS", "ROOT_FRACTION"]
@@ -282,6 +285,9 @@ def locate_branch_point(system, lo, hi, *, known=(), xtol: float, guess=None,
         # or the straddling interval where it is wider
         error = max(xtol, min(bracket[1] - bracket[0], 2 * xtol))
     except (_Stall, RuntimeError) as exc:
+        # narrow the bracket from outside the neighbourhood where solves fail
+        squeeze(test, [(q, v[0]) for q, v in test.log.items()], floor=xtol,
+                errors=(_Stall,))
         bracket = test.bracket()
         root = 0.5 * (bracket[0] + bracket[1])
         error = 0.5 * (bracket[1] - bracket[0])
