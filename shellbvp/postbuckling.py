@@ -603,9 +603,10 @@ def follow_bifurcation(instability, *, K: int = 2, degree: int | None = None,
         last = pts[-1]
         if n_folds and len(brackets) >= n_folds:
             stop = f"after {n_folds} fold(s)"
-        elif not lo <= last.p <= hi:
+        elif not lo < last.p < hi:
+            # the continuation lands its last point on the bound it crosses
             stop = f"{f.eq.scene.parameter} left [{lo:g}, {hi:g}]"
-        elif abs(last.monitor) > amplitude_max:
+        elif abs(last.monitor) >= amplitude_max:
             stop = f"amplitude beyond {amplitude_max:g}"
     folds = []
     for i, j in brackets:
