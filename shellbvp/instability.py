@@ -18,13 +18,14 @@ result. The first point where an eigenvalue is negative brackets the instability
 * n >= 1 first, or together with n = 0 in one bracket: a bifurcation. With n = 0 in the
   bracket too (a short cylinder between mirror planes in axial compression buckles
   axisymmetrically just before n = 1), n = 0's eigenvalue is one more candidate located as
-  below; where it comes first, it is the branch point above. Its parameter value is the root of the lowest eigenvalue
-  mu_n(p), found by Brent's method on equilibria solved at intermediate p with the branch's
-  own method (the bracket is narrowed to the fold's when the fold lies inside it). Its error
-  estimate is the change of that root when the perturbation degree is raised by
-  ``DEGREE_STEP`` and both degrees' eigenvalue round-off (``_degree_error``), plus the
-  change when the state is solved on the method's next finer discretisation
-  (``_base_error``) and the root's own tolerance; where it exceeds ``UNRESOLVED`` of the
+  below; where it comes first, it is the branch point above. The parameter value is the
+  root of the lowest eigenvalue mu_n(p), found by Brent's method on equilibria solved at
+  intermediate p with the branch's own method (the bracket is narrowed to the fold's when
+  the fold lies inside it). Its error estimate is the change of that root when the
+  perturbation degree is raised by ``DEGREE_STEP`` and both degrees' eigenvalue round-off
+  (``_degree_error``), plus the change when the state is solved on the method's next finer
+  discretisation (``_base_error``) and when it is solved afresh from the bracket's end
+  (``_state_error``), plus the root's own tolerance; where it exceeds ``UNRESOLVED`` of the
   bracket, ``note`` says so (it is the error estimate).
 
 A bracketed instability is always answered. The states inside a bracket are solved on the
@@ -34,8 +35,8 @@ Jacobian at prescribed p is nearly singular) the state is accepted at ``STATE_TO
 root's tolerance, and a state off the branch's Hermite interpolant (converged on a crossing
 branch) ends the search. A search that ends so is narrowed from outside the neighbourhood
 where the solves fail (:mod:`shellbvp.continuation.squeeze`) and answers with the narrowest
-interval over which the eigenvalue changed sign, its linear root, and the interval's width as the error
-estimate (``note`` says so).
+interval over which the eigenvalue changed sign, its linear root, and the interval's width
+as the error estimate (``note`` says so).
 
 Clusters: where several harmonics cross within ``NEARBY_FRACTION`` (1 %) of a bifurcation's
 load, ``nearby`` lists them (at most ``NEARBY_COUNT``, the critical one first; see
@@ -385,12 +386,13 @@ def _locate(branch, i, low_prev, low, degree, tol, cutoff, rows) -> Instability:
         # error (Newton at prescribed p stalls next to a branch point whose symmetry the
         # discretisation breaks): the root is the answer, the bracket's state the branch
         # point to switch from
+        stall = found.branch_point.stats.get("stall", "")
         return replace(found, p=float(p), w=float(eq.w), error_estimate=float(err),
                        equilibrium=eq, mode=modes(eq, [0], count=1, degree=degree)[0],
                        note=f"located by the root of its eigenvalue (as n >= 1); on the "
                        f"branch's own system only to a bracket of width "
-                       f"{found.error_estimate:.3g} ({found.branch_point.stats.get('stall', '')[:160]}), "
-                       f"whose state branch_point holds")
+                       f"{found.error_estimate:.3g} ({stall[:160]}), whose state "
+                       f"branch_point holds")
     note = notes.get(n, "")
     if not note and err > UNRESOLVED * max(abs(p_b - p_a), abs(p) * tol):
         note = (f"not resolved by the discretisation: raising the perturbation degree "
