@@ -566,20 +566,21 @@ def _root_error(branch, i, at, eq, n, degree, slope, tol) -> tuple:
     eigenvalue's in p): the perturbation degree's error (_degree_error), the state's
     discretisation error (_base_error), its determination (_state_error) and the root's own
     tolerance. The note says which term could not be evaluated."""
-    base = _base_error(branch, at, eq, n, degree, slope, tol)
-    state = _state_error(branch, i, at, eq, n, degree, slope, tol)
+    own = modes(eq, [n], count=1, degree=degree)[n]         # the spectrum at the root, once
+    base = _base_error(branch, at, eq, n, degree, slope, tol, own.lowest)
+    state = _state_error(branch, i, at, eq, n, degree, slope, tol, own.lowest)
     missing = [what for what, v in (("discretisation error (its solve on the next finer "
                                      "discretisation failed)", base),
                                     ("determination (a solve from the bracket's end "
                                      "failed)", state)) if not math.isfinite(v)]
     note = ("the axisymmetric state's " + " and ".join(missing) + " is not in the error "
             "estimate") if missing else ""
-    err = _degree_error(eq, n, degree, slope) + sum(v for v in (base, state)
+    err = _degree_error(eq, n, degree, slope, own) + sum(v for v in (base, state)
                                                     if math.isfinite(v))
     return err + tol * abs(float(eq.p)), note
 
 
-def _state_error(branch, i, at, eq, n, degree, slope, tol) -> float:
+def _state_error(branch, i, at, eq, n, degree, slope, tol, mu) -> float:
     """The root's error from how well the state at it is determined: the eigenvalue's
     change when that state is solved afresh from the bracket's nearer end (not from the root
     search's chain of solves), over its slope in p. Where the axisymmetric class bifurcates
@@ -588,40 +589,39 @@ def _state_error(branch, i, at, eq, n, degree, slope, tol) -> float:
     stalls at round-off amplified along its null vector, and the states of a chain of
     solves drift along it: on the hemisphere at R/t = 100 with collocation, n = 12's root
     moved 3.6e-8 (its other terms 8e-9), where a fresh solve moved the eigenvalue by that
-    much. 0 where ``at`` prescribes the monitor (next to a fold: the fold's own estimate),
-    nan where the fresh solve fails."""
+    much. ``mu``: the eigenvalue at ``eq``. 0 where ``at`` prescribes the monitor (next to
+    a fold: the fold's own estimate), nan where the fresh solve fails."""
     if at.prescribes != "parameter" or id(eq) not in at.states:
         return 0.0
     try:
         fresh = _parameter_solver(branch, i, tol)(float(eq.p))
         mu_f = modes(fresh, [n], count=1, degree=degree)[n].lowest
-        mu = modes(eq, [n], count=1, degree=degree)[n].lowest
     except (ConvergenceError, ValueError):
         return math.nan
     return abs(mu_f - mu) / abs(slope) if slope else math.nan
 
 
-def _degree_error(eq, n, degree, slope) -> float:
+def _degree_error(eq, n, degree, slope, own) -> float:
     """The root's error from the perturbation degree: the eigenvalue at the root on the
     degree ``DEGREE_STEP`` finer, plus both degrees' round-off floors
     (:attr:`shellbvp.harmonics.HarmonicSpectrum.roundoff`), over its slope in p. The floors
     matter for high harmonics of thin shells, whose eigenvalues converge in the degree to
     their round-off and then wander by it: at a sphere's multiplet (tol 1e-9) the change
     alone left the roots of n = 10, 14 and 18 up to 1.5 times their summed estimates
-    apart, where the sphere's symmetry puts them at one load."""
+    apart, where the sphere's symmetry puts them at one load. ``own``: the spectrum at
+    ``eq`` on ``degree``."""
     fine = modes(eq, [n], count=1, degree=degree + DEGREE_STEP)[n]
-    own = modes(eq, [n], count=1, degree=degree)[n]
     return (abs(fine.lowest) + fine.roundoff + own.roundoff) / abs(slope)
 
 
-def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
+def _base_error(branch, at, eq, n, degree, slope, tol, mu) -> float:
     """The root's error from the axisymmetric state's discretisation: the change of the
     eigenvalue when the state at the root is solved again on the method's next finer
     discretisation (p held, or the monitor where ``at`` prescribes it: next to a fold),
     over its slope in p. Without it, two methods' roots of the hemisphere under pressure at
     R/t = 100 lay 8e-7 apart with error estimates of 5e-9 (the degree's and the root's
-    alone). 0 for a state solved elsewhere (the fold: its own estimate), nan where the
-    finer solve fails."""
+    alone). ``mu``: the eigenvalue at ``eq``. 0 for a state solved elsewhere (the fold: its
+    own estimate), nan where the finer solve fails."""
     from .continuation import ContinuationOptions
     from .continuation.newton import newton
 
@@ -643,7 +643,6 @@ def _base_error(branch, at, eq, n, degree, slope, tol) -> float:
             return math.nan
         eq_f = equilibrium_from(fine, res.U, res.p)
         mu_f = modes(eq_f, [n], count=1, degree=degree)[n].lowest
-        mu = modes(eq, [n], count=1, degree=degree)[n].lowest
     except (ConvergenceError, ValueError, NotImplementedError):
         return math.nan
     # p moves with the monitor held: the eigenvalue's change includes that move's
@@ -665,15 +664,12 @@ def _bracketed(n, evals, exc):
     narrowest interval over which the eigenvalue changes sign, its root by linear
     interpolation, the interval's width as the error estimate, the equilibrium at the end
     nearer that root; None where no evaluation pair changes sign."""
-    pts = sorted((e for e in evals if math.isfinite(e[2])), key=lambda e: e[1])
-    best = None
-    for a, b in zip(pts, pts[1:]):
-        if a[2] > 0 >= b[2] or a[2] >= 0 > b[2] or a[2] < 0 <= b[2] or a[2] <= 0 < b[2]:
-            if best is None or abs(b[1] - a[1]) < abs(best[1][1] - best[0][1]):
-                best = (a, b)
-    if best is None:
+    from .continuation.squeeze import narrowest_sign_change
+
+    pair = narrowest_sign_change([(e[1], e[2], e) for e in evals if math.isfinite(e[2])])
+    if pair is None:
         return None
-    a, b = best
+    a, b = pair[0][2], pair[1][2]
     t = a[2] / (a[2] - b[2]) if a[2] != b[2] else 0.5
     p = a[1] + t * (b[1] - a[1])
     near = a if t <= 0.5 else b

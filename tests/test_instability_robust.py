@@ -123,17 +123,20 @@ def test_an_axisymmetric_crossing_first_in_a_mixed_bracket_is_located_and_follow
     (shellbvp.continuation.squeeze); it was 1.9e-3 wide, and n = 1 was reported first."""
     ins = short_cylinder
     assert ins.kind == "bifurcation" and ins.n == 0, ins
+    # the reference: figures/gallery_cylinder_classical.n0_crossing (shellbvp.solve at loads
+    # around T&G's N_0, the lowest n = 0 eigenvalue, a cubic through the four nearest its
+    # sign change), given to 5 decimals: the 1e-5 is its rounding
     assert abs(ins.p - 1326.47838) <= ins.error_estimate + 1e-5, ins
     assert ins.error_estimate < 1e-6 * ins.p
     assert [n for n, _, _ in ins.nearby][:2] == [0, 1], ins.nearby
 
 
-@pytest.mark.xfail(strict=True, reason="known limitation: where the discretisation breaks a "
-                   "pitchfork's symmetry, the branch point is located to a narrowed bracket "
-                   "on one rung only, and Koiter's a carries no discretisation error "
-                   "(a = 1.73e-5 +- 1.62e-5 on the short cylinder, where the symmetry makes "
-                   "it zero); and branch switching there is fragile: the fit's Newton at a "
-                   "prescribed monitor offset stalled in one full-suite run of two")
+@pytest.mark.xfail(strict=True, reason="known limitation, not yet fixed: on a pitchfork whose "
+                   "symmetry the discretisation breaks (this cylinder), Koiter's a comes out "
+                   "1.73e-5 +- 1.62e-5 where the symmetry makes it 0 (such a branch point is "
+                   "located on one discretisation only, so a's estimate lacks the "
+                   "discretisation's error), and switching onto the buckled branch failed to "
+                   "converge in one full-suite run of two")
 def test_the_short_cylinder_is_followed_and_koiters_a_is_zero_within_its_error(
         short_cylinder):
     """The bifurcated branch followed from the branch point; the symmetry x -> L - x of the

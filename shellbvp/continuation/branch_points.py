@@ -44,7 +44,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..methods.base import Discretisation, implements
 from .newton import bordered_lu, newton
-from .squeeze import squeeze
+from .squeeze import narrowest_sign_change, squeeze
 
 __all__ = ["BranchPoint", "test_function", "null_vectors", "locate_branch_point",
            "refine_branch_point", "branch_point_on", "INVERSE_ITERATIONS", "ROOT_FRACTION"]
@@ -216,12 +216,8 @@ class _Test:
 
     def bracket(self):
         """The narrowest interval between logged values of opposite sign."""
-        pts = sorted((p, v[0]) for p, v in self.log.items())
-        best = None
-        for (p0, g0), (p1, g1) in zip(pts, pts[1:]):
-            if g0 * g1 <= 0 and (best is None or p1 - p0 < best[1] - best[0]):
-                best = (p0, p1)
-        return best
+        pair = narrowest_sign_change([(p, v[0]) for p, v in self.log.items()])
+        return None if pair is None else (pair[0][0], pair[1][0])
 
 
 def _normalised(v):

@@ -25,12 +25,14 @@ ROUNDS = 60
 
 
 def narrowest_sign_change(samples):
-    """((x_a, f_a), (x_b, f_b)) adjacent in x with f changing sign (a zero counts), the
-    narrowest such pair of ``samples`` [(x, f)]; None where f keeps its sign."""
-    pts = sorted(samples)
+    """(a, b), two samples adjacent in x with f changing sign (one zero counts, two do
+    not), the narrowest such pair of ``samples`` [(x, f, ...)] (items may carry more after
+    x and f); None where f keeps its sign."""
+    pts = sorted(samples, key=lambda q: q[0])
     best = None
     for a, b in zip(pts, pts[1:]):
-        if a[1] * b[1] <= 0 and (best is None or b[0] - a[0] < best[1][0] - best[0][0]):
+        if a[1] * b[1] <= 0 and (a[1] != 0 or b[1] != 0) \
+                and (best is None or b[0] - a[0] < best[1][0] - best[0][0]):
             best = (a, b)
     return best
 
